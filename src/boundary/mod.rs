@@ -1,0 +1,3 @@
+//! Rigid walls.
+
+pub mod plate;

@@ -1,0 +1,701 @@
+//! Scene configuration: the one table of parameters shared by the FMU, the CLI and the examples.
+//!
+//! Every parameter the solver accepts is a row of [`PARAMS`]: its FMU name (which is also its
+//! scene-file key), value reference, type, default, allowed range, unit and description.
+//! Range checks happen here and nowhere else: [`SceneConfig::set`] refuses a value outside the row's
+//! range with a message naming the variable, the value and the range, and
+//! [`SceneConfig::validate`] adds the checks that involve several parameters (a drop that starts
+//! inside the plate, a resolution that would not fit in memory, a model not yet implemented).
+//! `modelDescription/modelDescription.xml` is checked against this table by a test, so the FMU's
+//! interface and the solver cannot drift apart.
+
+use serde::{Deserialize, Serialize};
+use std::fmt;
+use thiserror::Error;
+
+/// What went wrong with a parameter. The message names the variable, the value and what is allowed.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum ConfigError {
+    #[error("unknown parameter '{0}'")]
+    Unknown(String),
+    #[error("parameter '{name}' = {value} is outside the allowed range {range}")]
+    OutOfRange {
+        name: String,
+        value: String,
+        range: String,
+    },
+    #[error("parameter '{name}' has a value of the wrong type: {detail}")]
+    WrongType { name: String, detail: String },
+    #[error("parameter '{name}': '{value}' is not one of {allowed}")]
+    BadChoice {
+        name: String,
+        value: String,
+        allowed: String,
+    },
+    #[error("{0}")]
+    Inconsistent(String),
+    #[error("scene file: {0}")]
+    Parse(String),
+}
+
+/// The type of one parameter, with its default and limits.
+#[derive(Debug, Clone, Copy)]
+pub enum Kind {
+    /// A real number in `[min, max]`; `min_open`/`max_open` make an end exclusive.
+    Real {
+        default: f64,
+        min: f64,
+        max: f64,
+        min_open: bool,
+        max_open: bool,
+    },
+    /// An integer in `[min, max]`.
+    Integer { default: i64, min: i64, max: i64 },
+    /// One of `items`, numbered 1.. in the FMU (FMI 2.0 Enumeration).
+    Enumeration {
+        type_name: &'static str,
+        items: &'static [(&'static str, &'static str)],
+        default: &'static str,
+    },
+}
+
+/// One row of the parameter table.
+#[derive(Debug, Clone, Copy)]
+pub struct ParamSpec {
+    pub name: &'static str,
+    pub value_reference: u32,
+    pub kind: Kind,
+    /// SI unit name as used in the FMU's unitDefinitions ("" for dimensionless).
+    pub unit: &'static str,
+    pub description: &'static str,
+}
+
+const fn real(default: f64, min: f64, max: f64) -> Kind {
+    Kind::Real {
+        default,
+        min,
+        max,
+        min_open: false,
+        max_open: false,
+    }
+}
+const fn real_pos(default: f64, max: f64) -> Kind {
+    Kind::Real {
+        default,
+        min: 0.0,
+        max,
+        min_open: true,
+        max_open: false,
+    }
+}
+
+pub const SCENES: &[(&str, &str)] = &[
+    ("drop", "2D drop falling onto a straight rigid plate"),
+    ("jet", "buckling jet from a nozzle onto a plate"),
+    (
+        "elliptical_drop",
+        "Monaghan's rotating-stretching elliptical drop, no walls (Ren 2015 section 4.1)",
+    ),
+];
+pub const SCHEMES: &[(&str, &str)] = &[
+    ("wcsph", "weakly compressible SPH of Fang et al. 2006"),
+    (
+        "pdri",
+        "SPH with periodic density reinitialisation of Ren et al. 2015",
+    ),
+    ("isph", "incompressible SPH of King & Lind 2021"),
+];
+pub const RHEOLOGIES: &[(&str, &str)] = &[
+    ("newtonian", "Newtonian fluid"),
+    ("oldroyd_b", "Oldroyd-B"),
+    ("ucm", "upper-convected Maxwell (Oldroyd-B with no solvent)"),
+    ("fene_p", "FENE-P"),
+    ("fene_cr", "FENE-CR"),
+    ("ptt_linear", "linear Phan-Thien-Tanner"),
+    ("ptt_exponential", "exponential Phan-Thien-Tanner"),
+    ("giesekus", "Giesekus"),
+    ("cross", "Cross shear-thinning generalized Newtonian"),
+];
+pub const CONFORMATION_METHODS: &[(&str, &str)] = &[
+    ("direct", "direct upper-convected update of the conformation tensor"),
+    ("log", "log-conformation (King & Lind eqs. 12-19, 29-33)"),
+];
+pub const ARTIFICIAL_STRESS_KINDS: &[(&str, &str)] = &[
+    (
+        "fang",
+        "principal-stress artificial stress, Fang 2006 eqs. 38-44",
+    ),
+    (
+        "ren",
+        "artificial stress keyed to d2W, Ren 2015 eqs. 20a-20b",
+    ),
+];
+pub const EQUATIONS_OF_STATE: &[(&str, &str)] = &[
+    ("linear", "p = c^2 (rho - rho0), Fang 2006 eq. 10"),
+    ("tait", "p = rho0 c^2 / 7 ((rho/rho0)^7 - 1), Ren 2015 eq. 8"),
+];
+
+/// The parameter table: the single source of names, value references, defaults and ranges.
+/// Defaults are Fang et al. 2006's Oldroyd-B drop (D = 2 cm, V = 1 m/s, nu = 0.004 m2/s,
+/// lambda1 = 0.02 s, lambda2 = 0.002 s, so beta = lambda2/lambda1 = 0.1; c = 12.5 m/s).
+pub const PARAMS: &[ParamSpec] = &[
+    ParamSpec { name: "scene", value_reference: 1, kind: Kind::Enumeration { type_name: "Scene", items: SCENES, default: "drop" }, unit: "", description: "Which flow to simulate" },
+    ParamSpec { name: "scheme", value_reference: 2, kind: Kind::Enumeration { type_name: "Scheme", items: SCHEMES, default: "wcsph" }, unit: "", description: "SPH scheme" },
+    ParamSpec { name: "rheology", value_reference: 3, kind: Kind::Enumeration { type_name: "Rheology", items: RHEOLOGIES, default: "oldroyd_b" }, unit: "", description: "Constitutive model of the fluid" },
+    ParamSpec { name: "plate_inclination", value_reference: 4, kind: Kind::Real { default: 0.0, min: 0.0, max: 90.0, min_open: false, max_open: true }, unit: "deg", description: "Angle of the plate to the horizontal; the plate runs downhill towards +x" },
+    ParamSpec { name: "impact_velocity", value_reference: 5, kind: real(1.0, 0.0, 100.0), unit: "m/s", description: "Initial speed of the drop, vertically down" },
+    ParamSpec { name: "drop_diameter", value_reference: 6, kind: real_pos(0.02, 10.0), unit: "m", description: "Diameter of the initial (circular) drop" },
+    ParamSpec { name: "drop_height", value_reference: 7, kind: real_pos(0.04, 100.0), unit: "m", description: "Height of the drop centre above the impact point, measured vertically" },
+    ParamSpec { name: "density", value_reference: 8, kind: real_pos(1000.0, 1.0e5), unit: "kg/m3", description: "Reference density rho0" },
+    ParamSpec { name: "gravity", value_reference: 9, kind: real(9.81, 0.0, 1000.0), unit: "m/s2", description: "Gravitational acceleration, vertically down" },
+    ParamSpec { name: "viscosity", value_reference: 10, kind: real_pos(4.0, 1.0e6), unit: "Pa.s", description: "Total zero-shear viscosity eta0 (solvent + polymer)" },
+    ParamSpec { name: "viscosity_ratio", value_reference: 11, kind: real(0.1, 0.0, 1.0), unit: "1", description: "Solvent to total viscosity beta = eta_s/eta0 (Fang's lambda2/lambda1)" },
+    ParamSpec { name: "relaxation_time", value_reference: 12, kind: real_pos(0.02, 1.0e6), unit: "s", description: "Polymer relaxation time lambda (Fang's lambda1)" },
+    ParamSpec { name: "fene_L2", value_reference: 13, kind: Kind::Real { default: 100.0, min: 2.0, max: 1.0e12, min_open: true, max_open: false }, unit: "1", description: "FENE extensibility L^2 (> 2 in 2D)" },
+    ParamSpec { name: "ptt_epsilon", value_reference: 14, kind: real(0.25, 0.0, 10.0), unit: "1", description: "PTT extensibility parameter epsilon" },
+    ParamSpec { name: "giesekus_alpha", value_reference: 15, kind: real(0.1, 0.0, 0.5), unit: "1", description: "Giesekus mobility alpha (0 <= alpha <= 0.5)" },
+    ParamSpec { name: "cross_viscosity_inf", value_reference: 16, kind: real(0.4, 0.0, 1.0e6), unit: "Pa.s", description: "Cross model infinite-shear viscosity (Ren 2015 eq. 5)" },
+    ParamSpec { name: "cross_K", value_reference: 17, kind: real(1.0, 0.0, 1.0e6), unit: "s", description: "Cross model time constant K (Ren 2015 eq. 5)" },
+    ParamSpec { name: "cross_m", value_reference: 18, kind: real(1.0, 0.0, 10.0), unit: "1", description: "Cross model exponent m (Ren 2015 eq. 5)" },
+    ParamSpec { name: "particles_per_diameter", value_reference: 19, kind: Kind::Integer { default: 20, min: 4, max: 4000 }, unit: "", description: "Resolution: lattice spacing dx = drop_diameter / particles_per_diameter" },
+    ParamSpec { name: "sound_speed", value_reference: 20, kind: real_pos(12.5, 1.0e5), unit: "m/s", description: "Artificial speed of sound c in the equation of state" },
+    ParamSpec { name: "artificial_viscosity_alpha", value_reference: 21, kind: real(1.0, 0.0, 10.0), unit: "1", description: "Monaghan artificial viscosity alpha (Fang 2006 eq. 31)" },
+    ParamSpec { name: "artificial_viscosity_beta", value_reference: 22, kind: real(2.0, 0.0, 10.0), unit: "1", description: "Monaghan artificial viscosity beta (Fang 2006 eq. 31)" },
+    ParamSpec { name: "artificial_stress_epsilon", value_reference: 23, kind: real(0.5, 0.0, 1.0), unit: "1", description: "Artificial stress epsilon against the tensile instability (Fang 2006 eq. 42); 0 switches it off" },
+    ParamSpec { name: "time_step_factor", value_reference: 24, kind: Kind::Real { default: 0.3, min: 0.0, max: 1.0, min_open: true, max_open: false }, unit: "1", description: "Safety factor applied to the time-step limits (Fang 2006 eqs. 51-53)" },
+    ParamSpec { name: "smoothing_ratio", value_reference: 25, kind: real(1.5, 1.0, 3.0), unit: "1", description: "Smoothing length over particle spacing h/dx" },
+    ParamSpec { name: "conformation_method", value_reference: 26, kind: Kind::Enumeration { type_name: "ConformationMethod", items: CONFORMATION_METHODS, default: "direct" }, unit: "", description: "How the conformation tensor is integrated" },
+    ParamSpec { name: "evss_alpha", value_reference: 27, kind: real(0.0, 0.0, 1.0), unit: "1", description: "EVSS added viscosity alpha_V / (1 - beta) scale (King & Lind eqs. 6-8); 0 = off" },
+    ParamSpec { name: "artificial_stress_kind", value_reference: 28, kind: Kind::Enumeration { type_name: "ArtificialStress", items: ARTIFICIAL_STRESS_KINDS, default: "fang" }, unit: "", description: "Which artificial stress counters the tensile instability" },
+    ParamSpec { name: "artificial_stress_b", value_reference: 29, kind: real(0.8, 0.0, 10.0), unit: "1", description: "Coefficient b of Ren's artificial stress (Ren 2015 eq. 20b)" },
+    ParamSpec { name: "density_reinit_interval", value_reference: 30, kind: Kind::Integer { default: 20, min: 0, max: 1_000_000 }, unit: "", description: "PDRI: steps between density reinitialisations (0 = never)" },
+    ParamSpec { name: "equation_of_state", value_reference: 31, kind: Kind::Enumeration { type_name: "EquationOfState", items: EQUATIONS_OF_STATE, default: "linear" }, unit: "", description: "Equation of state relating pressure to density" },
+    ParamSpec { name: "fracture_distance", value_reference: 32, kind: real(0.3, 0.0, 1.0), unit: "1", description: "Health: pair distance, in particle spacings, below which two fluid particles count as clumped by the tensile instability (0 = never check)" },
+];
+
+/// Index of a parameter in [`PARAMS`] by name.
+pub fn param_spec(name: &str) -> Option<&'static ParamSpec> {
+    PARAMS.iter().find(|p| p.name == name)
+}
+
+/// The parameter with a given FMU value reference.
+pub fn param_by_vr(vr: u32) -> Option<&'static ParamSpec> {
+    PARAMS.iter().find(|p| p.value_reference == vr)
+}
+
+macro_rules! choice_enum {
+    ($(#[$m:meta])* $name:ident, $table:ident, $($variant:ident = $s:literal),+ $(,)?) => {
+        $(#[$m])*
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Hash)]
+        #[serde(rename_all = "snake_case")]
+        pub enum $name { $($variant),+ }
+        impl $name {
+            /// The snake_case name used in the FMU and in scene files.
+            pub fn as_str(self) -> &'static str { match self { $(Self::$variant => $s),+ } }
+            /// Parse the snake_case name.
+            pub fn parse(s: &str) -> Option<Self> { match s { $($s => Some(Self::$variant),)+ _ => None } }
+            /// FMI enumeration index (1-based, in table order).
+            pub fn index(self) -> i64 {
+                $table.iter().position(|(n, _)| *n == self.as_str()).map(|i| i as i64 + 1).unwrap_or(0)
+            }
+            pub fn from_index(i: i64) -> Option<Self> {
+                if i < 1 { return None; }
+                $table.get((i - 1) as usize).and_then(|(n, _)| Self::parse(n))
+            }
+        }
+        impl fmt::Display for $name {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result { f.write_str(self.as_str()) }
+        }
+    };
+}
+
+choice_enum!(
+    /// The flow to simulate.
+    Scene, SCENES, Drop = "drop", Jet = "jet", EllipticalDrop = "elliptical_drop");
+choice_enum!(
+    /// The SPH scheme.
+    SchemeKind, SCHEMES, Wcsph = "wcsph", Pdri = "pdri", Isph = "isph");
+choice_enum!(
+    /// The constitutive model.
+    RheologyKind, RHEOLOGIES,
+    Newtonian = "newtonian", OldroydB = "oldroyd_b", Ucm = "ucm", FeneP = "fene_p",
+    FeneCr = "fene_cr", PttLinear = "ptt_linear", PttExponential = "ptt_exponential",
+    Giesekus = "giesekus", Cross = "cross");
+choice_enum!(
+    /// How the conformation tensor is advanced in time.
+    ConformationMethod, CONFORMATION_METHODS, Direct = "direct", Log = "log");
+choice_enum!(
+    /// Which artificial stress is used against the tensile instability.
+    ArtificialStressKind, ARTIFICIAL_STRESS_KINDS, Fang = "fang", Ren = "ren");
+choice_enum!(
+    /// Equation of state.
+    EquationOfState, EQUATIONS_OF_STATE, Linear = "linear", Tait = "tait");
+
+/// A parameter value as it arrives from a scene file or the FMU.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Value {
+    Real(f64),
+    Integer(i64),
+    Text(String),
+}
+
+impl fmt::Display for Value {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Value::Real(x) => write!(f, "{x}"),
+            Value::Integer(i) => write!(f, "{i}"),
+            Value::Text(s) => write!(f, "'{s}'"),
+        }
+    }
+}
+
+/// Everything that defines a simulation. Field names are the FMU parameter names.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[allow(non_snake_case)]
+pub struct SceneConfig {
+    pub scene: Scene,
+    pub scheme: SchemeKind,
+    pub rheology: RheologyKind,
+    pub plate_inclination: f64,
+    pub impact_velocity: f64,
+    pub drop_diameter: f64,
+    pub drop_height: f64,
+    pub density: f64,
+    pub gravity: f64,
+    pub viscosity: f64,
+    pub viscosity_ratio: f64,
+    pub relaxation_time: f64,
+    pub fene_L2: f64,
+    pub ptt_epsilon: f64,
+    pub giesekus_alpha: f64,
+    pub cross_viscosity_inf: f64,
+    pub cross_K: f64,
+    pub cross_m: f64,
+    pub particles_per_diameter: i64,
+    pub sound_speed: f64,
+    pub artificial_viscosity_alpha: f64,
+    pub artificial_viscosity_beta: f64,
+    pub artificial_stress_epsilon: f64,
+    pub time_step_factor: f64,
+    pub smoothing_ratio: f64,
+    pub conformation_method: ConformationMethod,
+    pub evss_alpha: f64,
+    pub artificial_stress_kind: ArtificialStressKind,
+    pub artificial_stress_b: f64,
+    pub density_reinit_interval: i64,
+    pub equation_of_state: EquationOfState,
+    pub fracture_distance: f64,
+}
+
+/// Largest number of particles (fluid + wall) a scene may ask for: about 2 GB of state.
+pub const MAX_PARTICLES: f64 = 5.0e6;
+
+impl Default for SceneConfig {
+    fn default() -> Self {
+        let mut c = SceneConfig {
+            scene: Scene::Drop,
+            scheme: SchemeKind::Wcsph,
+            rheology: RheologyKind::OldroydB,
+            plate_inclination: 0.0,
+            impact_velocity: 0.0,
+            drop_diameter: 0.0,
+            drop_height: 0.0,
+            density: 0.0,
+            gravity: 0.0,
+            viscosity: 0.0,
+            viscosity_ratio: 0.0,
+            relaxation_time: 0.0,
+            fene_L2: 0.0,
+            ptt_epsilon: 0.0,
+            giesekus_alpha: 0.0,
+            cross_viscosity_inf: 0.0,
+            cross_K: 0.0,
+            cross_m: 0.0,
+            particles_per_diameter: 0,
+            sound_speed: 0.0,
+            artificial_viscosity_alpha: 0.0,
+            artificial_viscosity_beta: 0.0,
+            artificial_stress_epsilon: 0.0,
+            time_step_factor: 0.0,
+            smoothing_ratio: 0.0,
+            conformation_method: ConformationMethod::Direct,
+            evss_alpha: 0.0,
+            artificial_stress_kind: ArtificialStressKind::Fang,
+            artificial_stress_b: 0.0,
+            density_reinit_interval: 0,
+            equation_of_state: EquationOfState::Linear,
+            fracture_distance: 0.0,
+        };
+        for p in PARAMS {
+            let v = match p.kind {
+                Kind::Real { default, .. } => Value::Real(default),
+                Kind::Integer { default, .. } => Value::Integer(default),
+                Kind::Enumeration { default, .. } => Value::Text(default.to_string()),
+            };
+            c.set(p.name, v).expect("table defaults are valid");
+        }
+        c
+    }
+}
+
+impl SceneConfig {
+    /// Set one parameter by its FMU name, checking type and range against [`PARAMS`].
+    /// Enumerations accept their name (`Value::Text`) or their 1-based index (`Value::Integer`).
+    pub fn set(&mut self, name: &str, value: Value) -> Result<(), ConfigError> {
+        let spec = param_spec(name).ok_or_else(|| ConfigError::Unknown(name.to_string()))?;
+        match spec.kind {
+            Kind::Real {
+                min,
+                max,
+                min_open,
+                max_open,
+                ..
+            } => {
+                let x = match value {
+                    Value::Real(x) => x,
+                    Value::Integer(i) => i as f64,
+                    Value::Text(ref s) => {
+                        return Err(ConfigError::WrongType {
+                            name: name.into(),
+                            detail: format!("expected a real number, got '{s}'"),
+                        })
+                    }
+                };
+                let lo_ok = if min_open { x > min } else { x >= min };
+                let hi_ok = if max_open { x < max } else { x <= max };
+                if !x.is_finite() || !lo_ok || !hi_ok {
+                    return Err(ConfigError::OutOfRange {
+                        name: name.into(),
+                        value: format!("{x}"),
+                        range: range_text(&spec.kind),
+                    });
+                }
+                *self.real_field(name).expect("every Real row has a field") = x;
+            }
+            Kind::Integer { min, max, .. } => {
+                let i = match value {
+                    Value::Integer(i) => i,
+                    Value::Real(x) if x.fract() == 0.0 && x.is_finite() => x as i64,
+                    other => {
+                        return Err(ConfigError::WrongType {
+                            name: name.into(),
+                            detail: format!("expected an integer, got {other}"),
+                        })
+                    }
+                };
+                if i < min || i > max {
+                    return Err(ConfigError::OutOfRange {
+                        name: name.into(),
+                        value: format!("{i}"),
+                        range: range_text(&spec.kind),
+                    });
+                }
+                match name {
+                    "particles_per_diameter" => self.particles_per_diameter = i,
+                    "density_reinit_interval" => self.density_reinit_interval = i,
+                    _ => unreachable!("integer row without field: {name}"),
+                }
+            }
+            Kind::Enumeration { items, .. } => {
+                let text = match value {
+                    Value::Text(s) => s,
+                    Value::Integer(i) if i >= 1 && (i as usize) <= items.len() => {
+                        items[(i - 1) as usize].0.to_string()
+                    }
+                    other => {
+                        return Err(ConfigError::BadChoice {
+                            name: name.into(),
+                            value: other.to_string(),
+                            allowed: choices_text(items),
+                        })
+                    }
+                };
+                let bad = || ConfigError::BadChoice {
+                    name: name.into(),
+                    value: text.clone(),
+                    allowed: choices_text(items),
+                };
+                match name {
+                    "scene" => self.scene = Scene::parse(&text).ok_or_else(bad)?,
+                    "scheme" => self.scheme = SchemeKind::parse(&text).ok_or_else(bad)?,
+                    "rheology" => self.rheology = RheologyKind::parse(&text).ok_or_else(bad)?,
+                    "conformation_method" => {
+                        self.conformation_method =
+                            ConformationMethod::parse(&text).ok_or_else(bad)?
+                    }
+                    "artificial_stress_kind" => {
+                        self.artificial_stress_kind =
+                            ArtificialStressKind::parse(&text).ok_or_else(bad)?
+                    }
+                    "equation_of_state" => {
+                        self.equation_of_state = EquationOfState::parse(&text).ok_or_else(bad)?
+                    }
+                    _ => unreachable!("enumeration row without field: {name}"),
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Current value of a parameter by name (enumerations as their 1-based index).
+    pub fn get(&self, name: &str) -> Result<Value, ConfigError> {
+        let spec = param_spec(name).ok_or_else(|| ConfigError::Unknown(name.to_string()))?;
+        Ok(match spec.kind {
+            Kind::Real { .. } => Value::Real(*self.clone().real_field(name).expect("field")),
+            Kind::Integer { .. } => Value::Integer(match name {
+                "particles_per_diameter" => self.particles_per_diameter,
+                "density_reinit_interval" => self.density_reinit_interval,
+                _ => unreachable!(),
+            }),
+            Kind::Enumeration { .. } => Value::Integer(match name {
+                "scene" => self.scene.index(),
+                "scheme" => self.scheme.index(),
+                "rheology" => self.rheology.index(),
+                "conformation_method" => self.conformation_method.index(),
+                "artificial_stress_kind" => self.artificial_stress_kind.index(),
+                "equation_of_state" => self.equation_of_state.index(),
+                _ => unreachable!(),
+            }),
+        })
+    }
+
+    fn real_field(&mut self, name: &str) -> Option<&mut f64> {
+        Some(match name {
+            "plate_inclination" => &mut self.plate_inclination,
+            "impact_velocity" => &mut self.impact_velocity,
+            "drop_diameter" => &mut self.drop_diameter,
+            "drop_height" => &mut self.drop_height,
+            "density" => &mut self.density,
+            "gravity" => &mut self.gravity,
+            "viscosity" => &mut self.viscosity,
+            "viscosity_ratio" => &mut self.viscosity_ratio,
+            "relaxation_time" => &mut self.relaxation_time,
+            "fene_L2" => &mut self.fene_L2,
+            "ptt_epsilon" => &mut self.ptt_epsilon,
+            "giesekus_alpha" => &mut self.giesekus_alpha,
+            "cross_viscosity_inf" => &mut self.cross_viscosity_inf,
+            "cross_K" => &mut self.cross_K,
+            "cross_m" => &mut self.cross_m,
+            "sound_speed" => &mut self.sound_speed,
+            "artificial_viscosity_alpha" => &mut self.artificial_viscosity_alpha,
+            "artificial_viscosity_beta" => &mut self.artificial_viscosity_beta,
+            "artificial_stress_epsilon" => &mut self.artificial_stress_epsilon,
+            "time_step_factor" => &mut self.time_step_factor,
+            "smoothing_ratio" => &mut self.smoothing_ratio,
+            "evss_alpha" => &mut self.evss_alpha,
+            "artificial_stress_b" => &mut self.artificial_stress_b,
+            "fracture_distance" => &mut self.fracture_distance,
+            _ => return None,
+        })
+    }
+
+    /// Particle spacing dx = D / particles_per_diameter (Fang 2006 section 4: a Cartesian lattice).
+    pub fn dx(&self) -> f64 {
+        self.drop_diameter / self.particles_per_diameter as f64
+    }
+
+    /// Smoothing length h = smoothing_ratio * dx (Fang uses h = 1.5 dx).
+    pub fn h(&self) -> f64 {
+        self.smoothing_ratio * self.dx()
+    }
+
+    /// Checks that involve several parameters, or that the scene can actually be built.
+    /// Single-value ranges were already enforced by [`SceneConfig::set`]; they are checked
+    /// again here so a config built field by field in Rust is held to the same table.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        for p in PARAMS {
+            let v = self.get(p.name)?;
+            self.clone().set(p.name, v)?;
+        }
+        let inconsistent = |s: String| Err(ConfigError::Inconsistent(s));
+        match self.scene {
+            Scene::Drop => {}
+            Scene::EllipticalDrop => {}
+            Scene::Jet => {
+                return inconsistent(
+                    "scene 'jet' is not implemented yet; use scene = 'drop' or 'elliptical_drop'"
+                        .into(),
+                )
+            }
+        }
+        if self.scheme == SchemeKind::Isph {
+            return inconsistent(
+                "scheme 'isph' is not implemented yet; use scheme = 'wcsph' or 'pdri'".into(),
+            );
+        }
+        if !crate::rheology::is_implemented(self.rheology) {
+            return inconsistent(format!(
+                "rheology '{}' is not implemented yet",
+                self.rheology
+            ));
+        }
+        if self.scene == Scene::Drop {
+            let theta = self.plate_inclination.to_radians();
+            let normal_gap = self.drop_height * theta.cos() - 0.5 * self.drop_diameter;
+            if normal_gap < self.dx() {
+                return inconsistent(format!(
+                    "drop_height = {} m puts the drop (diameter {} m) within one particle spacing of \
+                     the plate inclined at {} deg: its centre must be at least {:.6} m above the impact point",
+                    self.drop_height,
+                    self.drop_diameter,
+                    self.plate_inclination,
+                    (0.5 * self.drop_diameter + self.dx()) / theta.cos()
+                ));
+            }
+        }
+        let ppd = self.particles_per_diameter as f64;
+        let estimate = self.estimated_particles();
+        if estimate > MAX_PARTICLES {
+            return inconsistent(format!(
+                "particles_per_diameter = {} would need about {:.2e} particles, more than the {:.0e} that fit in memory",
+                self.particles_per_diameter, estimate, MAX_PARTICLES
+            ));
+        }
+        let _ = ppd;
+        Ok(())
+    }
+
+    /// Rough particle count (fluid + wall) of the scene, for the memory check.
+    pub fn estimated_particles(&self) -> f64 {
+        let ppd = self.particles_per_diameter as f64;
+        let fluid = std::f64::consts::FRAC_PI_4 * ppd * ppd;
+        let wall = match self.scene {
+            Scene::Drop => 4.0 * ppd * 20.0,
+            _ => 0.0,
+        };
+        fluid + wall
+    }
+
+    /// Read a flat TOML scene file whose keys are the FMU parameter names. Missing keys keep
+    /// their defaults; an unknown key or a bad value is an error naming it.
+    pub fn from_toml_str(text: &str) -> Result<Self, ConfigError> {
+        let table: toml::Table = text
+            .parse()
+            .map_err(|e: toml::de::Error| ConfigError::Parse(e.to_string()))?;
+        let mut cfg = SceneConfig::default();
+        for (key, val) in table {
+            let v = match val {
+                toml::Value::Float(x) => Value::Real(x),
+                toml::Value::Integer(i) => Value::Integer(i),
+                toml::Value::String(s) => Value::Text(s),
+                other => {
+                    return Err(ConfigError::WrongType {
+                        name: key,
+                        detail: format!("unsupported TOML value {other}"),
+                    })
+                }
+            };
+            cfg.set(&key, v)?;
+        }
+        cfg.validate()?;
+        Ok(cfg)
+    }
+
+    /// The scene as a flat TOML file (every parameter, enumerations by name).
+    pub fn to_toml_string(&self) -> String {
+        let mut s = String::new();
+        for p in PARAMS {
+            let line = match (p.kind, self.get(p.name).expect("known")) {
+                (Kind::Enumeration { items, .. }, Value::Integer(i)) => {
+                    format!("{} = \"{}\"", p.name, items[(i - 1) as usize].0)
+                }
+                (Kind::Real { .. }, Value::Real(x)) => format!("{} = {:?}", p.name, x),
+                (_, v) => format!("{} = {}", p.name, v),
+            };
+            s.push_str(&line);
+            s.push('\n');
+        }
+        s
+    }
+}
+
+/// Human-readable range of a row, e.g. "[0, 90)".
+pub fn range_text(kind: &Kind) -> String {
+    match *kind {
+        Kind::Real {
+            min,
+            max,
+            min_open,
+            max_open,
+            ..
+        } => format!(
+            "{}{}, {}{}",
+            if min_open { "(" } else { "[" },
+            min,
+            max,
+            if max_open { ")" } else { "]" }
+        ),
+        Kind::Integer { min, max, .. } => format!("[{min}, {max}]"),
+        Kind::Enumeration { items, .. } => choices_text(items),
+    }
+}
+
+fn choices_text(items: &[(&str, &str)]) -> String {
+    let names: Vec<String> = items.iter().map(|(n, _)| format!("'{n}'")).collect();
+    format!("{{{}}}", names.join(", "))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_are_fang_oldroyd_b() {
+        let c = SceneConfig::default();
+        assert_eq!(c.rheology, RheologyKind::OldroydB);
+        assert_eq!(c.drop_diameter, 0.02);
+        assert_eq!(c.viscosity_ratio, 0.1);
+        assert_eq!(c.sound_speed, 12.5);
+        c.validate().unwrap();
+    }
+
+    #[test]
+    fn out_of_range_names_variable_value_and_range() {
+        let mut c = SceneConfig::default();
+        let e = c.set("plate_inclination", Value::Real(90.0)).unwrap_err();
+        let msg = e.to_string();
+        assert!(msg.contains("plate_inclination") && msg.contains("90") && msg.contains("[0, 90)"), "{msg}");
+        let e = c.set("drop_diameter", Value::Real(-1.0)).unwrap_err().to_string();
+        assert!(e.contains("drop_diameter") && e.contains("-1"), "{e}");
+        let e = c.set("viscosity_ratio", Value::Real(f64::NAN)).unwrap_err().to_string();
+        assert!(e.contains("viscosity_ratio") && e.contains("NaN"), "{e}");
+        assert!(matches!(c.set("nonsense", Value::Real(1.0)), Err(ConfigError::Unknown(_))));
+    }
+
+    #[test]
+    fn toml_round_trip_and_unknown_key() {
+        let mut c = SceneConfig::default();
+        c.set("rheology", Value::Text("newtonian".into())).unwrap();
+        c.set("plate_inclination", Value::Real(30.0)).unwrap();
+        let back = SceneConfig::from_toml_str(&c.to_toml_string()).unwrap();
+        assert_eq!(back, c);
+        let e = SceneConfig::from_toml_str("drop_diametr = 0.1").unwrap_err().to_string();
+        assert!(e.contains("drop_diametr"), "{e}");
+        let e = SceneConfig::from_toml_str("rheology = \"honey\"").unwrap_err().to_string();
+        assert!(e.contains("rheology") && e.contains("honey") && e.contains("oldroyd_b"), "{e}");
+    }
+
+    #[test]
+    fn drop_inside_plate_is_refused() {
+        let mut c = SceneConfig::default();
+        c.drop_height = 0.01;
+        let e = c.validate().unwrap_err().to_string();
+        assert!(e.contains("drop_height"), "{e}");
+    }
+
+    #[test]
+    fn huge_resolution_is_refused() {
+        let mut c = SceneConfig::default();
+        c.particles_per_diameter = 4000;
+        let e = c.validate().unwrap_err().to_string();
+        assert!(e.contains("particles_per_diameter") && e.contains("memory"), "{e}");
+    }
+
+    #[test]
+    fn value_references_are_unique() {
+        let mut vrs: Vec<u32> = PARAMS.iter().map(|p| p.value_reference).collect();
+        vrs.sort();
+        vrs.dedup();
+        assert_eq!(vrs.len(), PARAMS.len());
+    }
+}

@@ -1,0 +1,154 @@
+//! What a run reports: the FMU outputs, named exactly as in ARCHITECTURE.md, and how each is
+//! computed.
+//!
+//! Particle extents include half a lattice spacing on each side (each particle stands for a
+//! dx x dx square), so the initial drop measures its diameter D, not D - dx.
+//!
+//! | output | definition |
+//! |---|---|
+//! | `drop_width` | (max s - min s) over fluid particles + dx; s is the along-plate coordinate. Elliptical drop: extent along x. |
+//! | `drop_height` | max distance d of fluid from the plate + dx/2. Elliptical drop: extent along y. |
+//! | `spread_front` | max s + dx/2: how far the fluid reaches downhill of the impact point |
+//! | `spread_back` | -(min s - dx/2): how far the fluid reaches uphill of the impact point |
+//! | `wall_force_normal` | force of the fluid on the plate per unit depth along -n (into the plate), at the last step's midpoint |
+//! | `wall_force_tangential` | same force along the downhill tangent t |
+//! | `kinetic_energy` | sum of m v^2 / 2 over fluid particles [J/m] |
+//! | `volume_error` | sum(m / rho) / (N m / rho0) - 1: the fluid's volume change through compression |
+//! | `max_conformation_trace` | max tr(A) over fluid particles; 0 for models without a conformation tensor |
+//! | `min_conformation_det` | min det(A) over fluid particles (> 0 while A is positive definite); 1 without a tensor |
+//! | `time_step` | the last full time step taken |
+//! | `particle_count` | number of fluid particles |
+//!
+//! The wall force is the force the wall particles exert on the fluid in the corrector stage, with
+//! the sign flipped. Because the same force moves the fluid in that stage, its time integral
+//! equals the change of the drop's momentum minus the gravity impulse, to round-off.
+
+use crate::simulation::State;
+use serde::{Deserialize, Serialize};
+
+/// One row of the output table.
+#[derive(Debug, Clone, Copy)]
+pub struct OutputSpec {
+    pub name: &'static str,
+    pub value_reference: u32,
+    pub unit: &'static str,
+    pub description: &'static str,
+}
+
+/// The outputs, in the order of [`Outputs::values`].
+pub const OUTPUTS: &[OutputSpec] = &[
+    OutputSpec { name: "drop_width", value_reference: 101, unit: "m", description: "Extent of the fluid along the plate" },
+    OutputSpec { name: "drop_height", value_reference: 102, unit: "m", description: "Largest distance of fluid from the plate" },
+    OutputSpec { name: "wall_force_normal", value_reference: 103, unit: "N/m", description: "Force of the fluid on the plate per unit depth, normal component, positive into the plate" },
+    OutputSpec { name: "wall_force_tangential", value_reference: 104, unit: "N/m", description: "Force of the fluid on the plate per unit depth, tangential component, positive downhill" },
+    OutputSpec { name: "spread_front", value_reference: 105, unit: "m", description: "Furthest reach of the fluid downhill of the impact point, along the plate" },
+    OutputSpec { name: "spread_back", value_reference: 106, unit: "m", description: "Furthest reach of the fluid uphill of the impact point, along the plate" },
+    OutputSpec { name: "kinetic_energy", value_reference: 107, unit: "J/m", description: "Kinetic energy of the fluid per unit depth" },
+    OutputSpec { name: "volume_error", value_reference: 108, unit: "1", description: "Relative change of the fluid volume sum(m/rho)" },
+    OutputSpec { name: "max_conformation_trace", value_reference: 109, unit: "1", description: "Largest trace of the conformation tensor (0 without one)" },
+    OutputSpec { name: "min_conformation_det", value_reference: 110, unit: "1", description: "Smallest determinant of the conformation tensor (1 without one)" },
+    OutputSpec { name: "time_step", value_reference: 111, unit: "s", description: "Last time step of the solver" },
+    OutputSpec { name: "particle_count", value_reference: 112, unit: "", description: "Number of fluid particles" },
+];
+
+/// Values of every output at one time.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct Outputs {
+    pub drop_width: f64,
+    pub drop_height: f64,
+    pub wall_force_normal: f64,
+    pub wall_force_tangential: f64,
+    pub spread_front: f64,
+    pub spread_back: f64,
+    pub kinetic_energy: f64,
+    pub volume_error: f64,
+    pub max_conformation_trace: f64,
+    pub min_conformation_det: f64,
+    pub time_step: f64,
+    pub particle_count: f64,
+}
+
+impl Outputs {
+    /// Values in the order of [`OUTPUTS`].
+    pub fn values(&self) -> [f64; 12] {
+        [
+            self.drop_width,
+            self.drop_height,
+            self.wall_force_normal,
+            self.wall_force_tangential,
+            self.spread_front,
+            self.spread_back,
+            self.kinetic_energy,
+            self.volume_error,
+            self.max_conformation_trace,
+            self.min_conformation_det,
+            self.time_step,
+            self.particle_count,
+        ]
+    }
+
+    /// Value of an output by name.
+    pub fn get(&self, name: &str) -> Option<f64> {
+        OUTPUTS
+            .iter()
+            .position(|o| o.name == name)
+            .map(|i| self.values()[i])
+    }
+
+    /// Compute every output from a state. `dx` is the lattice spacing, `rho0` the reference density.
+    pub fn compute(st: &State, dx: f64, rho0: f64) -> Self {
+        let fl = &st.fluid;
+        let n = fl.len();
+        let mut o = Outputs {
+            particle_count: n as f64,
+            time_step: st.last_dt,
+            min_conformation_det: 1.0,
+            ..Default::default()
+        };
+        if n == 0 {
+            return o;
+        }
+        let (mut s_lo, mut s_hi, mut d_lo, mut d_hi) = (
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        );
+        let mut volume = 0.0;
+        let mut ke = 0.0;
+        for i in 0..n {
+            let (s, d) = match &st.plate {
+                Some(p) => (p.s(&fl.x[i]), p.d(&fl.x[i])),
+                None => (fl.x[i].x, fl.x[i].y),
+            };
+            s_lo = s_lo.min(s);
+            s_hi = s_hi.max(s);
+            d_lo = d_lo.min(d);
+            d_hi = d_hi.max(d);
+            volume += fl.mass / fl.rho[i];
+            ke += 0.5 * fl.mass * fl.v[i].norm_squared();
+        }
+        o.drop_width = s_hi - s_lo + dx;
+        o.drop_height = match st.plate {
+            Some(_) => d_hi + 0.5 * dx,
+            None => d_hi - d_lo + dx,
+        };
+        o.spread_front = s_hi + 0.5 * dx;
+        o.spread_back = -(s_lo - 0.5 * dx);
+        o.kinetic_energy = ke;
+        o.volume_error = volume / (n as f64 * fl.mass / rho0) - 1.0;
+        if let Some(p) = &st.plate {
+            o.wall_force_normal = -st.wall_force.dot(&p.n);
+            o.wall_force_tangential = st.wall_force.dot(&p.t);
+        }
+        if !fl.conf.is_empty() {
+            o.max_conformation_trace = fl.conf.iter().map(|a| a.trace()).fold(f64::MIN, f64::max);
+            o.min_conformation_det = fl
+                .conf
+                .iter()
+                .map(|a| a.determinant())
+                .fold(f64::MAX, f64::min);
+        }
+        o
+    }
+}

@@ -1,0 +1,28 @@
+//! ViscoSPH: transient viscoelastic and shear-thinning free-surface flows by Smoothed Particle
+//! Hydrodynamics, in 2D.
+//!
+//! Three seed schemes (Fang 2006 WCSPH, Ren 2015 PDRI-SPH, King & Lind 2021 ISPH), the
+//! constitutive models of King & Lind's Table I plus the Cross model, a drop impacting a possibly
+//! inclined plate, and an FMI 2.0 Co-Simulation layer over the same [`simulation::Simulation`].
+//! Papers are cited by file in `../shared/papers/` and equation number.
+
+pub mod boundary;
+pub mod config;
+pub mod diagnostics;
+pub mod fmi2;
+pub mod kernel;
+pub mod neighbors;
+pub mod particles;
+pub mod rheology;
+pub mod scene;
+pub mod scheme;
+pub mod simulation;
+
+/// 2D vector (nalgebra), the one math alias used everywhere.
+pub type Vec2 = nalgebra::Vector2<f64>;
+/// 2x2 matrix: velocity gradients, stresses and conformation tensors.
+pub type Mat2 = nalgebra::Matrix2<f64>;
+
+pub use config::SceneConfig;
+pub use diagnostics::{Outputs, OUTPUTS};
+pub use simulation::{SimError, Simulation};

@@ -1,0 +1,225 @@
+//! Neighbour search: a uniform cell grid filled by a counting sort, and compact (CSR) neighbour
+//! lists built from it in parallel.
+//!
+//! Determinism: each list is sorted by neighbour index, so every sum over neighbours runs in the
+//! same order whatever the thread count and whenever the list was last rebuilt. Lists are built with
+//! a skin (radius = support + skin) and reused until some particle has moved more than half the
+//! skin; particles in the skin but outside the support contribute exact zeros.
+
+use crate::Vec2;
+use rayon::prelude::*;
+
+/// Uniform grid of square cells over the bounding box of a point set.
+#[derive(Debug, Clone, Default)]
+pub struct CellGrid {
+    origin: Vec2,
+    inv_cell: f64,
+    nx: usize,
+    ny: usize,
+    /// `cell_start[c]..cell_start[c+1]` indexes `sorted` for cell c.
+    cell_start: Vec<u32>,
+    /// Point indices ordered by cell, ascending index within a cell.
+    sorted: Vec<u32>,
+}
+
+impl CellGrid {
+    /// Bin `points` into cells of side `cell` (>= the largest search radius used with it).
+    pub fn build(points: &[Vec2], cell: f64) -> Self {
+        assert!(cell > 0.0 && cell.is_finite());
+        if points.is_empty() {
+            return Self {
+                inv_cell: 1.0 / cell,
+                nx: 1,
+                ny: 1,
+                cell_start: vec![0, 0],
+                ..Default::default()
+            };
+        }
+        let (lo, hi) = points
+            .par_iter()
+            .fold(
+                || (Vec2::repeat(f64::INFINITY), Vec2::repeat(f64::NEG_INFINITY)),
+                |(lo, hi), p| (lo.inf(p), hi.sup(p)),
+            )
+            .reduce(
+                || (Vec2::repeat(f64::INFINITY), Vec2::repeat(f64::NEG_INFINITY)),
+                |a, b| (a.0.inf(&b.0), a.1.sup(&b.1)),
+            );
+        let inv_cell = 1.0 / cell;
+        let nx = (((hi.x - lo.x) * inv_cell).floor() as usize + 1).max(1);
+        let ny = (((hi.y - lo.y) * inv_cell).floor() as usize + 1).max(1);
+        let mut grid = Self {
+            origin: lo,
+            inv_cell,
+            nx,
+            ny,
+            cell_start: Vec::new(),
+            sorted: Vec::new(),
+        };
+        let cells: Vec<u32> = points.par_iter().map(|p| grid.cell_of(p) as u32).collect();
+        let mut count = vec![0u32; nx * ny + 1];
+        for &c in &cells {
+            count[c as usize + 1] += 1;
+        }
+        for c in 0..nx * ny {
+            count[c + 1] += count[c];
+        }
+        let mut fill = count.clone();
+        let mut sorted = vec![0u32; points.len()];
+        for (i, &c) in cells.iter().enumerate() {
+            sorted[fill[c as usize] as usize] = i as u32;
+            fill[c as usize] += 1;
+        }
+        grid.cell_start = count;
+        grid.sorted = sorted;
+        grid
+    }
+
+    #[inline]
+    fn coords(&self, p: &Vec2) -> (i64, i64) {
+        (
+            ((p.x - self.origin.x) * self.inv_cell).floor() as i64,
+            ((p.y - self.origin.y) * self.inv_cell).floor() as i64,
+        )
+    }
+
+    #[inline]
+    fn cell_of(&self, p: &Vec2) -> usize {
+        let (cx, cy) = self.coords(p);
+        let cx = cx.clamp(0, self.nx as i64 - 1) as usize;
+        let cy = cy.clamp(0, self.ny as i64 - 1) as usize;
+        cy * self.nx + cx
+    }
+
+    /// Call `f` with every point index binned in the 3x3 block of cells around `p`
+    /// (a superset of the points within one cell side of `p`).
+    #[inline]
+    pub fn for_each_candidate(&self, p: &Vec2, mut f: impl FnMut(u32)) {
+        let (cx, cy) = self.coords(p);
+        for y in (cy - 1).max(0)..=(cy + 1).min(self.ny as i64 - 1) {
+            for x in (cx - 1).max(0)..=(cx + 1).min(self.nx as i64 - 1) {
+                let c = y as usize * self.nx + x as usize;
+                let (a, b) = (self.cell_start[c] as usize, self.cell_start[c + 1] as usize);
+                for &j in &self.sorted[a..b] {
+                    f(j);
+                }
+            }
+        }
+    }
+}
+
+/// Compressed neighbour lists: `neighbors(i)` are the indices within `radius` of query point i,
+/// ascending.
+#[derive(Debug, Clone, Default)]
+pub struct NeighborList {
+    start: Vec<u32>,
+    idx: Vec<u32>,
+}
+
+impl NeighborList {
+    /// Lists for every query point of the points within `radius`, using `grid` built over
+    /// `points` with a cell side >= radius. Runs in parallel over chunks of query points and
+    /// concatenates in order, so the result does not depend on the thread count.
+    pub fn build(grid: &CellGrid, points: &[Vec2], queries: &[Vec2], radius: f64) -> Self {
+        let r2 = radius * radius;
+        const CHUNK: usize = 512;
+        let parts: Vec<(Vec<u32>, Vec<u32>)> = queries
+            .par_chunks(CHUNK)
+            .map(|chunk| {
+                let mut counts = Vec::with_capacity(chunk.len());
+                let mut idx = Vec::with_capacity(chunk.len() * 40);
+                for q in chunk {
+                    let before = idx.len();
+                    grid.for_each_candidate(q, |j| {
+                        if (points[j as usize] - q).norm_squared() <= r2 {
+                            idx.push(j);
+                        }
+                    });
+                    idx[before..].sort_unstable();
+                    counts.push((idx.len() - before) as u32);
+                }
+                (counts, idx)
+            })
+            .collect();
+        let mut start = Vec::with_capacity(queries.len() + 1);
+        start.push(0u32);
+        let total: usize = parts.iter().map(|p| p.1.len()).sum();
+        let mut idx = Vec::with_capacity(total);
+        for (counts, part) in parts {
+            for c in counts {
+                let last = *start.last().expect("non-empty");
+                start.push(last + c);
+            }
+            idx.extend_from_slice(&part);
+        }
+        Self { start, idx }
+    }
+
+    /// Neighbours of query point i, ascending.
+    #[inline]
+    pub fn of(&self, i: usize) -> &[u32] {
+        &self.idx[self.start[i] as usize..self.start[i + 1] as usize]
+    }
+
+    /// Number of query points.
+    pub fn len(&self) -> usize {
+        self.start.len().saturating_sub(1)
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Total number of stored pairs.
+    pub fn pairs(&self) -> usize {
+        self.idx.len()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+
+    #[test]
+    fn equals_brute_force_on_random_sets() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        for &(n, radius) in &[(1usize, 0.1), (50, 0.3), (2000, 0.05), (3000, 0.11)] {
+            let pts: Vec<Vec2> = (0..n)
+                .map(|_| Vec2::new(rng.gen_range(-1.0..1.0), rng.gen_range(0.0..0.5)))
+                .collect();
+            let queries: Vec<Vec2> = (0..300)
+                .map(|_| Vec2::new(rng.gen_range(-1.2..1.2), rng.gen_range(-0.2..0.7)))
+                .collect();
+            let grid = CellGrid::build(&pts, radius);
+            let list = NeighborList::build(&grid, &pts, &queries, radius);
+            assert_eq!(list.len(), queries.len());
+            for (i, q) in queries.iter().enumerate() {
+                let brute: Vec<u32> = (0..n as u32)
+                    .filter(|&j| (pts[j as usize] - q).norm_squared() <= radius * radius)
+                    .collect();
+                assert_eq!(list.of(i), &brute[..]);
+            }
+        }
+    }
+
+    #[test]
+    fn independent_of_thread_count() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+        let pts: Vec<Vec2> = (0..5000)
+            .map(|_| Vec2::new(rng.gen_range(0.0..1.0), rng.gen_range(0.0..1.0)))
+            .collect();
+        let run = |threads| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| {
+                    let g = CellGrid::build(&pts, 0.03);
+                    let l = NeighborList::build(&g, &pts, &pts, 0.03);
+                    (l.start.clone(), l.idx.clone())
+                })
+        };
+        assert_eq!(run(1), run(2));
+    }
+}

@@ -1,0 +1,38 @@
+//! The drop impact of Fang 2006 section 4: a disc cut from a Cartesian lattice, moving
+//! vertically down at the impact velocity towards a rigid plate.
+
+use crate::boundary::plate::Plate;
+use crate::config::SceneConfig;
+use crate::particles::Fluid;
+use crate::{Mat2, Vec2};
+
+/// Build the fluid of a drop: lattice points (i + 1/2) dx, (j + 1/2) dx about the drop centre in
+/// the plate's frame (so the lattice lines up with the wall particles at any inclination, and the
+/// drop is symmetric about its centre) kept where they fall inside the disc.
+pub fn build(cfg: &SceneConfig, elastic: bool) -> (Fluid, Plate) {
+    let dx = cfg.dx();
+    let plate = Plate::new(cfg.plate_inclination, dx);
+    let centre = Vec2::new(0.0, cfg.drop_height);
+    let (sc, dc) = (plate.s(&centre), plate.d(&centre));
+    let r = 0.5 * cfg.drop_diameter;
+    let n = cfg.particles_per_diameter;
+    let mut fluid = Fluid {
+        mass: cfg.density * dx * dx,
+        ..Default::default()
+    };
+    for j in -n..n {
+        for i in -n..n {
+            let (ls, ld) = ((i as f64 + 0.5) * dx, (j as f64 + 0.5) * dx);
+            if ls * ls + ld * ld < r * r {
+                fluid.x.push(plate.point(sc + ls, dc + ld));
+            }
+        }
+    }
+    let v0 = Vec2::new(0.0, -cfg.impact_velocity);
+    fluid.v = vec![v0; fluid.x.len()];
+    fluid.rho = vec![cfg.density; fluid.x.len()];
+    if elastic {
+        fluid.conf = vec![Mat2::identity(); fluid.x.len()];
+    }
+    (fluid, plate)
+}

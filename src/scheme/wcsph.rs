@@ -1,0 +1,606 @@
+//! Weakly compressible SPH of Fang, Owens, Tacher & Parriaux 2006 (section 3).
+//!
+//! One step is Fang's predictor-corrector (eqs. 49-50). Each of its two rate evaluations runs:
+//! 1. virtual velocities: boundary particles at rest, image velocities extrapolated from the
+//!    interior point P (eqs. 46-47);
+//! 2. fluid pass 1 (a gather): velocity gradient (eq. 23), continuity (eq. 26), pressure from the
+//!    equation of state (eq. 10), solvent stress eta d (eq. 8, Fang's d = kappa + kappa^T) and
+//!    polymer stress from the conformation tensor;
+//! 3. virtual stresses: boundary particles by normalised interpolation with the wall-normal
+//!    elastic stress set to zero (eq. 46), image particles extrapolated (eq. 48);
+//! 4. fluid pass 2 (a gather): momentum (eq. 27) with artificial viscosity (eqs. 30-37) and
+//!    artificial stress (eqs. 38-44); the part of it exerted by virtual particles is the wall force.
+//!
+//! Every pass is a gather over ascending neighbour indices, so results are bitwise independent of
+//! the thread count.
+
+use super::artificial;
+use super::Scheme;
+use crate::boundary::plate::{Plate, IMAGE_ROWS, PER_COLUMN};
+use crate::config::{ConformationMethod, EquationOfState, SceneConfig};
+use crate::kernel::Kernel;
+use crate::neighbors::{CellGrid, NeighborList};
+use crate::particles::Fluid;
+use crate::rheology::{self, Rheology};
+use crate::simulation::State;
+use crate::{Mat2, Vec2};
+use rayon::prelude::*;
+
+/// Exponent n of the artificial-stress factor f_ij^n (Fang 2006 section 3.2).
+const ART_STRESS_EXPONENT: i32 = 4;
+/// Neighbour-list skin as a fraction of h.
+const SKIN: f64 = 0.25;
+/// A particle this far below the plate has gone through it.
+const PENETRATION_DEPTH: f64 = 0.5;
+/// Relative density deviation that stops a run.
+const MAX_DENSITY_DEVIATION: f64 = 0.3;
+
+/// Constants of the scheme, resolved once from the configuration.
+#[derive(Debug, Clone)]
+pub struct Params {
+    pub rho0: f64,
+    pub c: f64,
+    pub alpha: f64,
+    pub beta: f64,
+    pub eps: f64,
+    pub gravity: Vec2,
+    pub eos: EquationOfState,
+    pub dt_factor: f64,
+    pub method: ConformationMethod,
+    /// Squared clumping distance of the fracture check (0 = off).
+    pub fracture_r2: f64,
+    pub dx: f64,
+    /// Largest distance from the origin a particle may reach.
+    pub domain_radius: f64,
+}
+
+impl Params {
+    pub fn from_config(cfg: &SceneConfig) -> Self {
+        let dx = cfg.dx();
+        Self {
+            rho0: cfg.density,
+            c: cfg.sound_speed,
+            alpha: cfg.artificial_viscosity_alpha,
+            beta: cfg.artificial_viscosity_beta,
+            eps: cfg.artificial_stress_epsilon,
+            gravity: Vec2::new(0.0, -cfg.gravity),
+            eos: cfg.equation_of_state,
+            dt_factor: cfg.time_step_factor,
+            method: cfg.conformation_method,
+            fracture_r2: (cfg.fracture_distance * dx).powi(2),
+            dx,
+            domain_radius: 1000.0 * cfg.drop_diameter + 10.0 * cfg.drop_height,
+        }
+    }
+
+    /// Pressure from density: Fang 2006 eq. (10), or Tait's equation (Ren 2015 eq. 8).
+    #[inline]
+    pub fn pressure(&self, rho: f64) -> f64 {
+        match self.eos {
+            EquationOfState::Linear => self.c * self.c * (rho - self.rho0),
+            EquationOfState::Tait => {
+                self.rho0 * self.c * self.c / 7.0 * ((rho / self.rho0).powi(7) - 1.0)
+            }
+        }
+    }
+}
+
+/// What one rate evaluation reports besides the per-particle rates.
+#[derive(Debug, Clone, Copy, Default)]
+struct StageReport {
+    /// Force of the virtual (wall) particles on the fluid [N/m].
+    wall_on_fluid: Vec2,
+    /// Largest acceleration magnitude.
+    max_acc: f64,
+    /// Smallest squared fluid-fluid pair distance, and the particle that has it.
+    min_r2: f64,
+    min_i: usize,
+}
+
+/// The WCSPH scheme for kernel `K` and rheology `R`.
+pub struct Wcsph<K: Kernel, R: Rheology> {
+    kernel: K,
+    model: R,
+    p: Params,
+    /// W(dx), the reference of the artificial-stress factor f_ij = W_ij / W(dx) (eq. 39).
+    w_dx: f64,
+    // Neighbour structures, rebuilt when particles have moved more than half the skin.
+    built_x: Vec<Vec2>,
+    nlist: NeighborList,
+    /// Fluid neighbours of each column's boundary particle (2c) and interior point P (2c+1).
+    clist: NeighborList,
+    plate: Option<Plate>,
+    // Work arrays over all particles (fluid first, then virtual).
+    all_x: Vec<Vec2>,
+    all_v: Vec<Vec2>,
+    all_rho: Vec<f64>,
+    all_sigma: Vec<Mat2>,
+    all_art: Vec<Mat2>,
+    /// Polymer stress of fluid particles (empty for inelastic models).
+    tau_p: Vec<Mat2>,
+    // Fluid rates.
+    kappa: Vec<Mat2>,
+    drho: Vec<f64>,
+    acc: Vec<Vec2>,
+    wall_acc: Vec<Vec2>,
+    half: Fluid,
+}
+
+impl<K: Kernel, R: Rheology> Wcsph<K, R> {
+    pub fn new(kernel: K, model: R, p: Params, plate: Option<Plate>) -> Self {
+        let w_dx = kernel.w(p.dx);
+        Self {
+            kernel,
+            model,
+            p,
+            w_dx,
+            built_x: Vec::new(),
+            nlist: NeighborList::default(),
+            clist: NeighborList::default(),
+            plate,
+            all_x: Vec::new(),
+            all_v: Vec::new(),
+            all_rho: Vec::new(),
+            all_sigma: Vec::new(),
+            all_art: Vec::new(),
+            tau_p: Vec::new(),
+            kappa: Vec::new(),
+            drho: Vec::new(),
+            acc: Vec::new(),
+            wall_acc: Vec::new(),
+            half: Fluid::default(),
+        }
+    }
+
+    fn search_radius(&self) -> f64 {
+        self.kernel.radius() + SKIN * self.kernel.h()
+    }
+
+    /// Rebuild the neighbour lists (and grow the plate) if any particle moved more than half the
+    /// skin since the last build.
+    fn refresh_neighbors(&mut self, x: &[Vec2], st_plate: &mut Option<Plate>) {
+        let half_skin2 = (0.5 * SKIN * self.kernel.h()).powi(2);
+        let stale = self.built_x.len() != x.len()
+            || x.par_iter()
+                .zip(self.built_x.par_iter())
+                .any(|(a, b)| (a - b).norm_squared() > half_skin2);
+        if !stale {
+            return;
+        }
+        let radius = self.search_radius();
+        if let Some(plate) = st_plate.as_mut() {
+            let (lo, hi) = x.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                let s = plate.s(p);
+                (lo.min(s), hi.max(s))
+            });
+            if lo.is_finite() {
+                plate.cover(lo - 3.0 * radius, hi + 3.0 * radius);
+            }
+            self.plate = Some(plate.clone());
+        }
+        let nf = x.len();
+        self.all_x.clear();
+        self.all_x.extend_from_slice(x);
+        let mut queries = Vec::new();
+        if let Some(plate) = &self.plate {
+            self.all_x.extend(plate.virtual_positions());
+            for c in 0..plate.columns() {
+                queries.push(plate.point(plate.column_s(c), 0.0));
+                queries.push(plate.interior_point(c));
+            }
+        }
+        let grid = CellGrid::build(&self.all_x, radius);
+        self.nlist = NeighborList::build(&grid, &self.all_x, x, radius);
+        // Columns see fluid only.
+        let fluid_grid = CellGrid::build(x, radius);
+        self.clist = NeighborList::build(&fluid_grid, x, &queries, radius);
+        self.built_x = x.to_vec();
+        let n = self.all_x.len();
+        self.all_v.resize(n, Vec2::zeros());
+        self.all_rho.resize(n, self.p.rho0);
+        self.all_rho[nf..].fill(self.p.rho0);
+        self.all_sigma.resize(n, Mat2::zeros());
+        self.all_art.resize(n, Mat2::zeros());
+    }
+
+    /// Normalised SPH interpolation weights (Fang 2006 eq. 46) of fluid neighbours of point `q`:
+    /// calls `f(j, w_j)` with sum_j w_j = 1, and returns false when no fluid is within reach.
+    #[inline]
+    fn shepard(
+        kernel: &K,
+        fluid: &Fluid,
+        list: &[u32],
+        q: &Vec2,
+        mut f: impl FnMut(usize, f64),
+    ) -> bool {
+        let r2max = kernel.radius().powi(2);
+        let mut den = 0.0;
+        for &j in list {
+            let j = j as usize;
+            let r2 = (fluid.x[j] - q).norm_squared();
+            if r2 < r2max {
+                den += fluid.mass / fluid.rho[j] * kernel.w(r2.sqrt());
+            }
+        }
+        if den <= 0.0 {
+            return false;
+        }
+        let inv = 1.0 / den;
+        for &j in list {
+            let j = j as usize;
+            let r2 = (fluid.x[j] - q).norm_squared();
+            if r2 < r2max {
+                f(j, fluid.mass / fluid.rho[j] * kernel.w(r2.sqrt()) * inv);
+            }
+        }
+        true
+    }
+
+    /// Image-particle factor 1 + d_I/d_P of image row m (d_I = m dx, d_P = dx; eqs. 47-48).
+    #[inline]
+    fn image_factor(row: usize) -> f64 {
+        1.0 + row as f64
+    }
+
+    /// Steps 1: virtual velocities.
+    fn virtual_velocities(&mut self, fluid: &Fluid) {
+        let Some(plate) = &self.plate else { return };
+        let nf = fluid.len();
+        let (kernel, clist) = (&self.kernel, &self.clist);
+        self.all_v[nf..]
+            .par_chunks_mut(PER_COLUMN)
+            .enumerate()
+            .for_each(|(c, out)| {
+                let q = plate.interior_point(c);
+                let mut vp = Vec2::zeros();
+                Self::shepard(kernel, fluid, clist.of(2 * c + 1), &q, |j, w| {
+                    vp += fluid.v[j] * w
+                });
+                out[0] = Vec2::zeros(); // boundary particle moves with the (fixed) wall
+                for (row, o) in out.iter_mut().enumerate().skip(1) {
+                    // eq. (47) with v_W = 0
+                    *o = vp - vp * Self::image_factor(row);
+                }
+            });
+    }
+
+    /// Step 3: virtual stresses and their artificial stresses.
+    fn virtual_stresses(&mut self, fluid: &Fluid) {
+        let Some(plate) = &self.plate else { return };
+        let nf = fluid.len();
+        let n = plate.n;
+        let nn = n * n.transpose();
+        let (kernel, clist, eps, rho0) = (&self.kernel, &self.clist, self.p.eps, self.p.rho0);
+        let (fsig, vsig) = self.all_sigma.split_at_mut(nf);
+        let fsig = &*fsig;
+        let tau_p = &self.tau_p;
+        let vart = &mut self.all_art[nf..];
+        vsig.par_chunks_mut(PER_COLUMN)
+            .zip(vart.par_chunks_mut(PER_COLUMN))
+            .enumerate()
+            .for_each(|(c, (sig, art))| {
+                let qb = plate.point(plate.column_s(c), 0.0);
+                let mut sb = Mat2::zeros();
+                let mut snn = 0.0;
+                Self::shepard(kernel, fluid, clist.of(2 * c), &qb, |j, w| {
+                    sb += fsig[j] * w;
+                    if R::ELASTIC {
+                        snn += n.dot(&(tau_p[j] * n)) * w;
+                    }
+                });
+                // Fang 3.3: the wall-normal component of the elastic stress is zero on the wall.
+                sb -= nn * snn;
+                let qp = plate.interior_point(c);
+                let mut sp = Mat2::zeros();
+                if !Self::shepard(kernel, fluid, clist.of(2 * c + 1), &qp, |j, w| {
+                    sp += fsig[j] * w
+                }) {
+                    sp = sb;
+                }
+                sig[0] = sb;
+                for row in 1..=IMAGE_ROWS {
+                    sig[row] = sp + (sb - sp) * Self::image_factor(row); // eq. (48)
+                }
+                for k in 0..PER_COLUMN {
+                    art[k] = artificial::fang_stress(eps, &sig[k], rho0);
+                }
+            });
+    }
+
+    /// One rate evaluation at fluid state `fl`: fills kappa, drho, acc, wall_acc.
+    fn rates(&mut self, fl: &Fluid) -> StageReport {
+        let nf = fl.len();
+        self.all_x[..nf].copy_from_slice(&fl.x);
+        self.all_v[..nf].copy_from_slice(&fl.v);
+        self.all_rho[..nf].copy_from_slice(&fl.rho);
+        self.virtual_velocities(fl);
+
+        // Pass 1: velocity gradient (eq. 23), continuity (eq. 26), stresses.
+        let (kernel, model, p) = (&self.kernel, &self.model, &self.p);
+        let (ax, av, arho) = (&self.all_x, &self.all_v, &self.all_rho);
+        let nlist = &self.nlist;
+        let r2max = kernel.radius().powi(2);
+        let mass = fl.mass;
+        struct P1 {
+            kappa: Mat2,
+            drho: f64,
+            sigma: Mat2,
+            tau_p: Mat2,
+            min_r2: f64,
+        }
+        let pass1: Vec<P1> = (0..nf)
+            .into_par_iter()
+            .map(|i| {
+                let (xi, vi) = (ax[i], av[i]);
+                let mut kappa = Mat2::zeros();
+                let mut drho = 0.0;
+                let mut min_r2 = f64::INFINITY;
+                for &j in nlist.of(i) {
+                    let j = j as usize;
+                    if j == i {
+                        continue;
+                    }
+                    let xij = xi - ax[j];
+                    let r2 = xij.norm_squared();
+                    if r2 >= r2max {
+                        continue;
+                    }
+                    if j < nf && r2 < min_r2 {
+                        min_r2 = r2;
+                    }
+                    let grad = xij * kernel.dw_over_r(r2.sqrt());
+                    let vij = vi - av[j];
+                    kappa -= (vij * grad.transpose()) * (mass / arho[j]);
+                    drho += mass * vij.dot(&grad);
+                }
+                let eta = model.solvent_viscosity(&kappa);
+                let d = kappa + kappa.transpose();
+                let tau_p = if R::ELASTIC {
+                    model.polymer_stress(&fl.conf[i])
+                } else {
+                    Mat2::zeros()
+                };
+                let sigma = Mat2::identity() * (-p.pressure(fl.rho[i])) + d * eta + tau_p;
+                P1 {
+                    kappa,
+                    drho,
+                    sigma,
+                    tau_p,
+                    min_r2,
+                }
+            })
+            .collect();
+        self.kappa.clear();
+        self.drho.clear();
+        self.tau_p.clear();
+        let (mut min_r2, mut min_i) = (f64::INFINITY, 0);
+        for (i, r) in pass1.into_iter().enumerate() {
+            self.kappa.push(r.kappa);
+            self.drho.push(r.drho);
+            if R::ELASTIC {
+                self.tau_p.push(r.tau_p);
+            }
+            self.all_sigma[i] = r.sigma;
+            self.all_art[i] = artificial::fang_stress(self.p.eps, &r.sigma, fl.rho[i]);
+            if r.min_r2 < min_r2 {
+                (min_r2, min_i) = (r.min_r2, i);
+            }
+        }
+        self.virtual_stresses(fl);
+
+        // Pass 2: momentum (eq. 27) with artificial viscosity (eqs. 30-37) and stress (eq. 38).
+        let (kernel, p) = (&self.kernel, &self.p);
+        let (ax, av, arho, asig, aart) = (
+            &self.all_x,
+            &self.all_v,
+            &self.all_rho,
+            &self.all_sigma,
+            &self.all_art,
+        );
+        let nlist = &self.nlist;
+        let h = kernel.h();
+        let inv_wdx = 1.0 / self.w_dx;
+        let use_art = p.eps > 0.0;
+        let accs: Vec<(Vec2, Vec2)> = (0..nf)
+            .into_par_iter()
+            .map(|i| {
+                let (xi, vi, rhoi) = (ax[i], av[i], arho[i]);
+                let si = asig[i] / (rhoi * rhoi);
+                let ri = aart[i];
+                let mut a = Vec2::zeros();
+                let mut aw = Vec2::zeros();
+                for &j in nlist.of(i) {
+                    let j = j as usize;
+                    if j == i {
+                        continue;
+                    }
+                    let xij = xi - ax[j];
+                    let r2 = xij.norm_squared();
+                    if r2 >= r2max {
+                        continue;
+                    }
+                    let r = r2.sqrt();
+                    let grad = xij * kernel.dw_over_r(r);
+                    let rhoj = arho[j];
+                    let mut t = si + asig[j] / (rhoj * rhoj);
+                    let pi = artificial::viscosity(
+                        p.alpha,
+                        p.beta,
+                        h,
+                        p.c,
+                        0.5 * (rhoi + rhoj),
+                        &(vi - av[j]),
+                        &xij,
+                        r2,
+                    );
+                    t -= Mat2::identity() * pi;
+                    if use_art {
+                        let f = kernel.w(r) * inv_wdx;
+                        let f2 = f * f;
+                        t += (ri + aart[j]) * (f2 * f2);
+                    }
+                    let contrib = t * grad * mass;
+                    if j < nf {
+                        a += contrib;
+                    } else {
+                        aw += contrib;
+                    }
+                }
+                (a + aw + p.gravity, aw)
+            })
+            .collect();
+        let _ = ART_STRESS_EXPONENT;
+        self.acc.clear();
+        self.wall_acc.clear();
+        let mut report = StageReport {
+            min_r2,
+            min_i,
+            ..Default::default()
+        };
+        for (a, aw) in accs {
+            report.max_acc = report.max_acc.max(a.norm());
+            report.wall_on_fluid += aw * mass;
+            self.acc.push(a);
+            self.wall_acc.push(aw);
+        }
+        report
+    }
+
+    /// Time-step limit from Fang 2006 eqs. (51)-(53) times the safety factor, plus the
+    /// relaxation time for the explicit conformation update.
+    fn stable_dt(&self, fl: &Fluid, report: &StageReport) -> f64 {
+        let h = self.kernel.h();
+        let vmax = fl.v.iter().fold(0.0f64, |m, v| m.max(v.norm()));
+        let nu = self.model.max_viscosity() / self.p.rho0;
+        let mut dt = h / (self.p.c + vmax); // eq. (51)
+        if report.max_acc > 0.0 {
+            dt = dt.min((h / report.max_acc).sqrt()); // eq. (52)
+        }
+        dt = dt.min(0.5 * h * h / nu); // eq. (53)
+        if R::ELASTIC {
+            dt = dt.min(self.model.relaxation_time());
+        }
+        self.p.dt_factor * dt
+    }
+
+    /// Health of a state after a step; the cause of a breakdown, if any.
+    fn check_health(
+        &self,
+        fl: &Fluid,
+        plate: &Option<Plate>,
+        (min_r2, min_i): (f64, usize),
+    ) -> Result<(), String> {
+        let p = &self.p;
+        let bad = (0..fl.len()).into_par_iter().find_first(|&i| {
+            !(fl.x[i].iter().all(|x| x.is_finite())
+                && fl.v[i].iter().all(|x| x.is_finite())
+                && fl.rho[i].is_finite()
+                && (!R::ELASTIC || fl.conf[i].iter().all(|x| x.is_finite())))
+        });
+        if let Some(i) = bad {
+            return Err(format!("non-finite value (NaN or Inf) on fluid particle {i}"));
+        }
+        for i in 0..fl.len() {
+            let dev = fl.rho[i] / p.rho0 - 1.0;
+            if dev.abs() > MAX_DENSITY_DEVIATION {
+                return Err(format!(
+                    "density of particle {i} is {:.1} % off the reference density (limit {:.0} %): the flow is too fast for the sound speed",
+                    100.0 * dev,
+                    100.0 * MAX_DENSITY_DEVIATION
+                ));
+            }
+            if fl.x[i].norm() > p.domain_radius {
+                return Err(format!(
+                    "particle {i} escaped the domain (|x| = {:.3e} m)",
+                    fl.x[i].norm()
+                ));
+            }
+            if let Some(pl) = plate {
+                if pl.d(&fl.x[i]) < -PENETRATION_DEPTH * p.dx {
+                    return Err(format!("particle {i} went through the plate"));
+                }
+            }
+        }
+        if p.fracture_r2 > 0.0 && min_r2 < p.fracture_r2 {
+            return Err(format!(
+                "tensile instability: fluid particle {min_i} at ({:.4e}, {:.4e}) m clumped with a neighbour \
+                 to {:.3} particle spacings apart (limit {:.3}); raise artificial_stress_epsilon",
+                fl.x[min_i].x,
+                fl.x[min_i].y,
+                min_r2.sqrt() / p.dx,
+                p.fracture_r2.sqrt() / p.dx
+            ));
+        }
+        Ok(())
+    }
+}
+
+impl<K: Kernel, R: Rheology> Scheme for Wcsph<K, R> {
+    fn step(&mut self, st: &mut State, max_dt: f64) -> Result<f64, String> {
+        let method = self.p.method;
+        self.refresh_neighbors(&st.fluid.x.clone(), &mut st.plate);
+        let r0 = self.rates(&st.fluid);
+        let dt = self.stable_dt(&st.fluid, &r0).min(max_dt);
+        if !(dt > 0.0) {
+            return Err(format!("time step collapsed to {dt:e} s"));
+        }
+        // Predictor, eq. (49): X^{n+1/2} = X^n + F^n dt/2.
+        let hdt = 0.5 * dt;
+        let fl = &st.fluid;
+        let mut half = std::mem::take(&mut self.half);
+        half.mass = fl.mass;
+        half.x.clear();
+        half.x.extend(fl.x.iter().zip(&fl.v).map(|(x, v)| x + v * hdt));
+        half.v.clear();
+        half.v.extend(fl.v.iter().zip(&self.acc).map(|(v, a)| v + a * hdt));
+        half.rho.clear();
+        half.rho.extend(fl.rho.iter().zip(&self.drho).map(|(r, d)| r + d * hdt));
+        half.conf.clear();
+        if R::ELASTIC {
+            let model = &self.model;
+            half.conf.par_extend(
+                fl.conf
+                    .par_iter()
+                    .zip(self.kappa.par_iter())
+                    .map(|(a, k)| rheology::advance(method, model, a, a, k, hdt)),
+            );
+        }
+        self.refresh_neighbors(&half.x, &mut st.plate);
+        let r1 = self.rates(&half);
+        // Corrector, eq. (50): X^{n+1} = X^n + F^{n+1/2} dt.
+        let fl = &mut st.fluid;
+        for i in 0..fl.len() {
+            fl.x[i] += half.v[i] * dt;
+            fl.v[i] += self.acc[i] * dt;
+            fl.rho[i] += self.drho[i] * dt;
+        }
+        if R::ELASTIC {
+            let model = &self.model;
+            let (hc, kp) = (&half.conf, &self.kappa);
+            fl.conf
+                .par_iter_mut()
+                .enumerate()
+                .for_each(|(i, a)| *a = rheology::advance(method, model, a, &hc[i], &kp[i], dt));
+        }
+        self.half = half;
+        // Force of the fluid on the plate is minus the force of the wall particles on the fluid;
+        // integrating it with the corrector's own rates makes the momentum balance exact.
+        st.wall_force = -r1.wall_on_fluid;
+        st.wall_impulse += -r1.wall_on_fluid * dt;
+        st.last_dt = dt;
+        let worst = if r0.min_r2 < r1.min_r2 {
+            (r0.min_r2, r0.min_i)
+        } else {
+            (r1.min_r2, r1.min_i)
+        };
+        self.check_health(&st.fluid, &st.plate, worst)?;
+        Ok(dt)
+    }
+
+    fn wall_positions(&self) -> Vec<Vec2> {
+        self.plate
+            .as_ref()
+            .map(|p| p.virtual_positions())
+            .unwrap_or_default()
+    }
+}

@@ -1,0 +1,200 @@
+//! A simulation: the state, the scheme chosen for it, and `advance_to` with adaptive sub-steps.
+
+use crate::config::{ConfigError, Scene, SceneConfig};
+use crate::diagnostics::Outputs;
+use crate::kernel::CubicSpline;
+use crate::particles::Fluid;
+use crate::rheology::{AnyRheology, Rheology};
+use crate::scheme::wcsph::{Params, Wcsph};
+use crate::scheme::Scheme;
+use crate::{dispatch_rheology, Vec2};
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+/// Why a simulation could not be built or could not go on.
+#[derive(Debug, Clone, Error, PartialEq)]
+pub enum SimError {
+    #[error(transparent)]
+    Config(#[from] ConfigError),
+    #[error("numerical breakdown at t = {time:.6e} s (step {step}): {cause}")]
+    Breakdown { time: f64, step: u64, cause: String },
+    #[error("invalid request: {0}")]
+    Request(String),
+    #[error("saved state could not be restored: {0}")]
+    State(String),
+}
+
+/// Everything that evolves: serialisable, holds no pointers, so a saved state restores in another
+/// process (FMI get/set/serialize FMU state).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct State {
+    pub time: f64,
+    pub step: u64,
+    pub fluid: Fluid,
+    pub plate: Option<crate::boundary::plate::Plate>,
+    /// Force of the fluid on the plate at the last step's corrector stage [N/m], global frame.
+    pub wall_force: Vec2,
+    /// Time integral of that force since t = 0 [N s/m], global frame.
+    pub wall_impulse: Vec2,
+    /// Last time step taken [s].
+    pub last_dt: f64,
+}
+
+/// A running simulation.
+pub struct Simulation {
+    cfg: SceneConfig,
+    state: State,
+    scheme: Box<dyn Scheme>,
+    elastic: bool,
+}
+
+/// Build the scheme for a configuration, resolving scheme, kernel and rheology once into a
+/// concrete type.
+fn build_scheme(
+    cfg: &SceneConfig,
+    plate: Option<crate::boundary::plate::Plate>,
+) -> Result<(Box<dyn Scheme>, bool), SimError> {
+    let model = AnyRheology::from_config(cfg)?;
+    let kernel = CubicSpline::new(cfg.h());
+    let params = Params::from_config(cfg);
+    Ok(dispatch_rheology!(model, m => {
+        let elastic = elastic_of(&m);
+        (Box::new(Wcsph::new(kernel, m, params, plate)) as Box<dyn Scheme>, elastic)
+    }))
+}
+
+fn elastic_of<R: Rheology>(_: &R) -> bool {
+    R::ELASTIC
+}
+
+impl Simulation {
+    /// Validate the configuration and build the initial state.
+    pub fn new(cfg: SceneConfig) -> Result<Self, SimError> {
+        cfg.validate()?;
+        let (_, elastic) = build_scheme(&cfg, None)?;
+        let (fluid, plate) = match cfg.scene {
+            Scene::Drop => {
+                let (f, p) = crate::scene::drop::build(&cfg, elastic);
+                (f, Some(p))
+            }
+            other => {
+                return Err(SimError::Config(ConfigError::Inconsistent(format!(
+                    "scene '{other}' is not implemented yet"
+                ))))
+            }
+        };
+        let (scheme, _) = build_scheme(&cfg, plate.clone())?;
+        let state = State {
+            time: 0.0,
+            step: 0,
+            fluid,
+            plate,
+            wall_force: Vec2::zeros(),
+            wall_impulse: Vec2::zeros(),
+            last_dt: 0.0,
+        };
+        Ok(Self {
+            cfg,
+            state,
+            scheme,
+            elastic,
+        })
+    }
+
+    pub fn config(&self) -> &SceneConfig {
+        &self.cfg
+    }
+    pub fn state(&self) -> &State {
+        &self.state
+    }
+    pub fn time(&self) -> f64 {
+        self.state.time
+    }
+    /// Whether the model carries a conformation tensor.
+    pub fn is_elastic(&self) -> bool {
+        self.elastic
+    }
+
+    /// Advance to exactly `t_end` with the scheme's adaptive steps; the last one is shortened to
+    /// land on `t_end`. On a breakdown the state is left at the last good step... and the error
+    /// names the time, the step and the cause.
+    pub fn advance_to(&mut self, t_end: f64) -> Result<(), SimError> {
+        if !t_end.is_finite() || t_end < self.state.time {
+            return Err(SimError::Request(format!(
+                "cannot advance from t = {} s to t = {t_end} s",
+                self.state.time
+            )));
+        }
+        while self.state.time < t_end {
+            let remaining = t_end - self.state.time;
+            let before = self.state.clone();
+            match self.scheme.step(&mut self.state, remaining) {
+                Ok(dt) => {
+                    self.state.step += 1;
+                    if dt >= remaining {
+                        self.state.time = t_end;
+                    } else {
+                        self.state.time += dt;
+                    }
+                }
+                Err(cause) => {
+                    let err = SimError::Breakdown {
+                        time: before.time,
+                        step: before.step + 1,
+                        cause,
+                    };
+                    self.state = before;
+                    return Err(err);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The outputs at the current time.
+    pub fn outputs(&self) -> Outputs {
+        Outputs::compute(&self.state, self.cfg.dx(), self.cfg.density)
+    }
+
+    /// Total momentum of the fluid [kg m/s per m depth].
+    pub fn fluid_momentum(&self) -> Vec2 {
+        let f = &self.state.fluid;
+        f.v.iter().fold(Vec2::zeros(), |s, v| s + v) * f.mass
+    }
+
+    /// Total fluid mass [kg per m depth].
+    pub fn fluid_mass(&self) -> f64 {
+        self.state.fluid.mass * self.state.fluid.len() as f64
+    }
+
+    /// Positions of the wall particles currently built.
+    pub fn wall_positions(&self) -> Vec<Vec2> {
+        self.scheme.wall_positions()
+    }
+
+    /// The state as bytes (bincode): configuration and state, no pointers.
+    pub fn save_state(&self) -> Vec<u8> {
+        bincode::serialize(&(&self.cfg, &self.state)).expect("state serialises")
+    }
+
+    /// Restore a state saved by [`Simulation::save_state`], possibly in another process.
+    pub fn restore_state(&mut self, bytes: &[u8]) -> Result<(), SimError> {
+        let (cfg, state): (SceneConfig, State) =
+            bincode::deserialize(bytes).map_err(|e| SimError::State(e.to_string()))?;
+        cfg.validate()?;
+        let (scheme, elastic) = build_scheme(&cfg, state.plate.clone())?;
+        *self = Self {
+            cfg,
+            state,
+            scheme,
+            elastic,
+        };
+        Ok(())
+    }
+
+    /// Back to the initial state of the same configuration.
+    pub fn reset(&mut self) -> Result<(), SimError> {
+        *self = Simulation::new(self.cfg.clone())?;
+        Ok(())
+    }
+}
