@@ -170,7 +170,7 @@ pub const PARAMS: &[ParamSpec] = &[
     ParamSpec { name: "artificial_stress_b", value_reference: 29, kind: real(0.8, 0.0, 10.0), unit: "1", description: "Coefficient b of Ren's artificial stress (Ren 2015 eq. 20b)" },
     ParamSpec { name: "density_reinit_interval", value_reference: 30, kind: Kind::Integer { default: 20, min: 0, max: 1_000_000 }, unit: "", description: "PDRI: steps between density reinitialisations (0 = never)" },
     ParamSpec { name: "equation_of_state", value_reference: 31, kind: Kind::Enumeration { type_name: "EquationOfState", items: EQUATIONS_OF_STATE, default: "linear" }, unit: "", description: "Equation of state relating pressure to density" },
-    ParamSpec { name: "fracture_distance", value_reference: 32, kind: real(0.3, 0.0, 1.0), unit: "1", description: "Health: pair distance, in particle spacings, below which two fluid particles count as clumped by the tensile instability (0 = never check)" },
+    ParamSpec { name: "fracture_void_fraction", value_reference: 32, kind: real(0.02, 0.0, 1.0), unit: "1", description: "Health: fraction of the fluid's area torn open into holes beyond which the run stops with a tensile-instability fracture (0 = never check)" },
 ];
 
 /// Index of a parameter in [`PARAMS`] by name.
@@ -284,7 +284,7 @@ pub struct SceneConfig {
     pub artificial_stress_b: f64,
     pub density_reinit_interval: i64,
     pub equation_of_state: EquationOfState,
-    pub fracture_distance: f64,
+    pub fracture_void_fraction: f64,
 }
 
 /// Largest number of particles (fluid + wall) a scene may ask for: about 2 GB of state.
@@ -324,7 +324,7 @@ impl Default for SceneConfig {
             artificial_stress_b: 0.0,
             density_reinit_interval: 0,
             equation_of_state: EquationOfState::Linear,
-            fracture_distance: 0.0,
+            fracture_void_fraction: 0.0,
         };
         for p in PARAMS {
             let v = match p.kind {
@@ -484,7 +484,7 @@ impl SceneConfig {
             "smoothing_ratio" => &mut self.smoothing_ratio,
             "evss_alpha" => &mut self.evss_alpha,
             "artificial_stress_b" => &mut self.artificial_stress_b,
-            "fracture_distance" => &mut self.fracture_distance,
+            "fracture_void_fraction" => &mut self.fracture_void_fraction,
             _ => return None,
         })
     }

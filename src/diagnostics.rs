@@ -18,6 +18,7 @@
 //! | `min_conformation_det` | min det(A) over fluid particles (> 0 while A is positive definite); 1 without a tensor |
 //! | `time_step` | the last full time step taken |
 //! | `particle_count` | number of fluid particles |
+//! | `void_fraction` | area of holes enclosed by fluid over the fluid's area, on cells of 2 dx (see [`crate::health`]) |
 //!
 //! The wall force is the force the wall particles exert on the fluid in the corrector stage, with
 //! the sign flipped. Because the same force moves the fluid in that stage, its time integral
@@ -49,6 +50,7 @@ pub const OUTPUTS: &[OutputSpec] = &[
     OutputSpec { name: "min_conformation_det", value_reference: 110, unit: "1", description: "Smallest determinant of the conformation tensor (1 without one)" },
     OutputSpec { name: "time_step", value_reference: 111, unit: "s", description: "Last time step of the solver" },
     OutputSpec { name: "particle_count", value_reference: 112, unit: "", description: "Number of fluid particles" },
+    OutputSpec { name: "void_fraction", value_reference: 113, unit: "1", description: "Area of holes torn into the fluid over the fluid's area (tensile-instability fracture measure)" },
 ];
 
 /// Values of every output at one time.
@@ -66,11 +68,12 @@ pub struct Outputs {
     pub min_conformation_det: f64,
     pub time_step: f64,
     pub particle_count: f64,
+    pub void_fraction: f64,
 }
 
 impl Outputs {
     /// Values in the order of [`OUTPUTS`].
-    pub fn values(&self) -> [f64; 12] {
+    pub fn values(&self) -> [f64; 13] {
         [
             self.drop_width,
             self.drop_height,
@@ -84,6 +87,7 @@ impl Outputs {
             self.min_conformation_det,
             self.time_step,
             self.particle_count,
+            self.void_fraction,
         ]
     }
 
@@ -102,6 +106,7 @@ impl Outputs {
         let mut o = Outputs {
             particle_count: n as f64,
             time_step: st.last_dt,
+            void_fraction: st.void_fraction,
             min_conformation_det: 1.0,
             ..Default::default()
         };

@@ -6,14 +6,18 @@
 //! inclined plate, and an FMI 2.0 Co-Simulation layer over the same [`simulation::Simulation`].
 //! Papers are cited by file in `../shared/papers/` and equation number.
 
+pub mod bench;
 pub mod boundary;
 pub mod config;
 pub mod diagnostics;
 pub mod fmi2;
+pub mod health;
+pub mod io;
 pub mod kernel;
 pub mod neighbors;
 pub mod particles;
 pub mod rheology;
+pub mod run;
 pub mod scene;
 pub mod scheme;
 pub mod simulation;

@@ -36,8 +36,11 @@ pub struct State {
     pub wall_force: Vec2,
     /// Time integral of that force since t = 0 [N s/m], global frame.
     pub wall_impulse: Vec2,
-    /// Last time step taken [s].
+    /// Stable time step at the last step [s] (the step actually taken may be shorter, to land
+    /// on a communication point).
     pub last_dt: f64,
+    /// Void fraction after the last step (see [`crate::health`]).
+    pub void_fraction: f64,
 }
 
 /// A running simulation.
@@ -92,6 +95,7 @@ impl Simulation {
             wall_force: Vec2::zeros(),
             wall_impulse: Vec2::zeros(),
             last_dt: 0.0,
+            void_fraction: 0.0,
         };
         Ok(Self {
             cfg,

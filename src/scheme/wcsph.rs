@@ -47,8 +47,8 @@ pub struct Params {
     pub eos: EquationOfState,
     pub dt_factor: f64,
     pub method: ConformationMethod,
-    /// Squared clumping distance of the fracture check (0 = off).
-    pub fracture_r2: f64,
+    /// Void fraction beyond which the fluid counts as torn (0 = never check).
+    pub fracture_void_fraction: f64,
     pub dx: f64,
     /// Largest distance from the origin a particle may reach.
     pub domain_radius: f64,
@@ -67,7 +67,7 @@ impl Params {
             eos: cfg.equation_of_state,
             dt_factor: cfg.time_step_factor,
             method: cfg.conformation_method,
-            fracture_r2: (cfg.fracture_distance * dx).powi(2),
+            fracture_void_fraction: cfg.fracture_void_fraction,
             dx,
             domain_radius: 1000.0 * cfg.drop_diameter + 10.0 * cfg.drop_height,
         }
@@ -92,9 +92,6 @@ struct StageReport {
     wall_on_fluid: Vec2,
     /// Largest acceleration magnitude.
     max_acc: f64,
-    /// Smallest squared fluid-fluid pair distance, and the particle that has it.
-    min_r2: f64,
-    min_i: usize,
 }
 
 /// The WCSPH scheme for kernel `K` and rheology `R`.
@@ -326,7 +323,6 @@ impl<K: Kernel, R: Rheology> Wcsph<K, R> {
             drho: f64,
             sigma: Mat2,
             tau_p: Mat2,
-            min_r2: f64,
         }
         let pass1: Vec<P1> = (0..nf)
             .into_par_iter()
@@ -334,7 +330,6 @@ impl<K: Kernel, R: Rheology> Wcsph<K, R> {
                 let (xi, vi) = (ax[i], av[i]);
                 let mut kappa = Mat2::zeros();
                 let mut drho = 0.0;
-                let mut min_r2 = f64::INFINITY;
                 for &j in nlist.of(i) {
                     let j = j as usize;
                     if j == i {
@@ -344,9 +339,6 @@ impl<K: Kernel, R: Rheology> Wcsph<K, R> {
                     let r2 = xij.norm_squared();
                     if r2 >= r2max {
                         continue;
-                    }
-                    if j < nf && r2 < min_r2 {
-                        min_r2 = r2;
                     }
                     let grad = xij * kernel.dw_over_r(r2.sqrt());
                     let vij = vi - av[j];
@@ -366,14 +358,12 @@ impl<K: Kernel, R: Rheology> Wcsph<K, R> {
                     drho,
                     sigma,
                     tau_p,
-                    min_r2,
                 }
             })
             .collect();
         self.kappa.clear();
         self.drho.clear();
         self.tau_p.clear();
-        let (mut min_r2, mut min_i) = (f64::INFINITY, 0);
         for (i, r) in pass1.into_iter().enumerate() {
             self.kappa.push(r.kappa);
             self.drho.push(r.drho);
@@ -382,9 +372,6 @@ impl<K: Kernel, R: Rheology> Wcsph<K, R> {
             }
             self.all_sigma[i] = r.sigma;
             self.all_art[i] = artificial::fang_stress(self.p.eps, &r.sigma, fl.rho[i]);
-            if r.min_r2 < min_r2 {
-                (min_r2, min_i) = (r.min_r2, i);
-            }
         }
         self.virtual_stresses(fl);
 
@@ -452,11 +439,7 @@ impl<K: Kernel, R: Rheology> Wcsph<K, R> {
         let _ = ART_STRESS_EXPONENT;
         self.acc.clear();
         self.wall_acc.clear();
-        let mut report = StageReport {
-            min_r2,
-            min_i,
-            ..Default::default()
-        };
+        let mut report = StageReport::default();
         for (a, aw) in accs {
             report.max_acc = report.max_acc.max(a.norm());
             report.wall_on_fluid += aw * mass;
@@ -483,13 +466,8 @@ impl<K: Kernel, R: Rheology> Wcsph<K, R> {
         self.p.dt_factor * dt
     }
 
-    /// Health of a state after a step; the cause of a breakdown, if any.
-    fn check_health(
-        &self,
-        fl: &Fluid,
-        plate: &Option<Plate>,
-        (min_r2, min_i): (f64, usize),
-    ) -> Result<(), String> {
+    /// Health of a state after a step: the void fraction, or the cause of a breakdown.
+    fn check_health(&self, fl: &Fluid, plate: &Option<Plate>) -> Result<f64, String> {
         let p = &self.p;
         let bad = (0..fl.len()).into_par_iter().find_first(|&i| {
             !(fl.x[i].iter().all(|x| x.is_finite())
@@ -504,7 +482,8 @@ impl<K: Kernel, R: Rheology> Wcsph<K, R> {
             let dev = fl.rho[i] / p.rho0 - 1.0;
             if dev.abs() > MAX_DENSITY_DEVIATION {
                 return Err(format!(
-                    "density of particle {i} is {:.1} % off the reference density (limit {:.0} %): the flow is too fast for the sound speed",
+                    "density of particle {i} is {:.1} % off the reference density (limit {:.0} %): \
+                     the flow is too fast for the sound speed",
                     100.0 * dev,
                     100.0 * MAX_DENSITY_DEVIATION
                 ));
@@ -521,18 +500,27 @@ impl<K: Kernel, R: Rheology> Wcsph<K, R> {
                 }
             }
         }
-        if p.fracture_r2 > 0.0 && min_r2 < p.fracture_r2 {
+        let voids = fluid_void_fraction(fl, plate, p.dx);
+        if p.fracture_void_fraction > 0.0 && voids > p.fracture_void_fraction {
             return Err(format!(
-                "tensile instability: fluid particle {min_i} at ({:.4e}, {:.4e}) m clumped with a neighbour \
-                 to {:.3} particle spacings apart (limit {:.3}); raise artificial_stress_epsilon",
-                fl.x[min_i].x,
-                fl.x[min_i].y,
-                min_r2.sqrt() / p.dx,
-                p.fracture_r2.sqrt() / p.dx
+                "fracture by the tensile instability: holes make up {:.1} % of the fluid's area \
+                 (limit {:.1} %); raise artificial_stress_epsilon",
+                100.0 * voids,
+                100.0 * p.fracture_void_fraction
             ));
         }
-        Ok(())
+        Ok(voids)
     }
+}
+
+/// Void fraction of the fluid (see [`crate::health`]) on cells of two particle spacings, in the
+/// plate's frame when there is a plate.
+pub fn fluid_void_fraction(fl: &Fluid, plate: &Option<Plate>, dx: f64) -> f64 {
+    let pts: Vec<(f64, f64)> = match plate {
+        Some(pl) => fl.x.iter().map(|x| (pl.s(x), pl.d(x))).collect(),
+        None => fl.x.iter().map(|x| (x.x, x.y)).collect(),
+    };
+    crate::health::void_fraction(&pts, 2.0 * dx, plate.is_some())
 }
 
 impl<K: Kernel, R: Rheology> Scheme for Wcsph<K, R> {
@@ -540,7 +528,8 @@ impl<K: Kernel, R: Rheology> Scheme for Wcsph<K, R> {
         let method = self.p.method;
         self.refresh_neighbors(&st.fluid.x.clone(), &mut st.plate);
         let r0 = self.rates(&st.fluid);
-        let dt = self.stable_dt(&st.fluid, &r0).min(max_dt);
+        let dt_stable = self.stable_dt(&st.fluid, &r0);
+        let dt = dt_stable.min(max_dt);
         if !(dt > 0.0) {
             return Err(format!("time step collapsed to {dt:e} s"));
         }
@@ -587,13 +576,8 @@ impl<K: Kernel, R: Rheology> Scheme for Wcsph<K, R> {
         // integrating it with the corrector's own rates makes the momentum balance exact.
         st.wall_force = -r1.wall_on_fluid;
         st.wall_impulse += -r1.wall_on_fluid * dt;
-        st.last_dt = dt;
-        let worst = if r0.min_r2 < r1.min_r2 {
-            (r0.min_r2, r0.min_i)
-        } else {
-            (r1.min_r2, r1.min_i)
-        };
-        self.check_health(&st.fluid, &st.plate, worst)?;
+        st.last_dt = dt_stable;
+        st.void_fraction = self.check_health(&st.fluid, &st.plate)?;
         Ok(dt)
     }
 

@@ -1,0 +1,180 @@
+//! PNG plots with plotters: line charts of time series and particle snapshots coloured by a field.
+
+use plotters::prelude::*;
+use std::path::Path;
+
+type PlotResult = Result<(), Box<dyn std::error::Error>>;
+
+/// A named line.
+pub struct Series {
+    pub label: String,
+    pub points: Vec<(f64, f64)>,
+}
+
+/// One panel of lines sharing axes.
+pub struct Panel {
+    pub title: String,
+    pub x_label: String,
+    pub y_label: String,
+    pub series: Vec<Series>,
+    /// Log axes (x, y).
+    pub log: (bool, bool),
+}
+
+fn bounds(points: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for v in points.filter(|v| v.is_finite() && (!log || *v > 0.0)) {
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    if !lo.is_finite() {
+        return if log { (0.1, 10.0) } else { (0.0, 1.0) };
+    }
+    if log {
+        (lo / 1.5, hi * 1.5)
+    } else {
+        let pad = ((hi - lo) * 0.05).max(1e-12 * hi.abs().max(1.0));
+        (lo - pad, hi + pad)
+    }
+}
+
+/// Panels side by side (in a grid of `cols` columns) in one PNG.
+pub fn line_panels(path: &Path, panels: &[Panel], cols: usize, size: (u32, u32)) -> PlotResult {
+    let root = BitMapBackend::new(path, size).into_drawing_area();
+    root.fill(&WHITE)?;
+    let rows = panels.len().div_ceil(cols);
+    let areas = root.split_evenly((rows, cols));
+    for (panel, area) in panels.iter().zip(areas.iter()) {
+        draw_panel(panel, area)?;
+    }
+    root.present()?;
+    Ok(())
+}
+
+fn draw_panel(panel: &Panel, area: &DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>) -> PlotResult {
+    let xs = bounds(panel.series.iter().flat_map(|s| s.points.iter().map(|p| p.0)), panel.log.0);
+    let ys = bounds(panel.series.iter().flat_map(|s| s.points.iter().map(|p| p.1)), panel.log.1);
+    let mut b = ChartBuilder::on(area);
+    b.caption(&panel.title, ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(60);
+    macro_rules! draw {
+        ($chart:expr) => {{
+            let mut chart = $chart;
+            chart
+                .configure_mesh()
+                .x_desc(panel.x_label.as_str())
+                .y_desc(panel.y_label.as_str())
+                .draw()?;
+            for (k, s) in panel.series.iter().enumerate() {
+                let color = Palette99::pick(k).to_rgba();
+                let pts: Vec<(f64, f64)> = s
+                    .points
+                    .iter()
+                    .copied()
+                    .filter(|p| p.0.is_finite() && p.1.is_finite())
+                    .filter(|p| (!panel.log.0 || p.0 > 0.0) && (!panel.log.1 || p.1 > 0.0))
+                    .collect();
+                chart
+                    .draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))?
+                    .label(s.label.as_str())
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
+                    });
+                if pts.len() < 40 {
+                    chart.draw_series(pts.iter().map(|p| Circle::new(*p, 3, color.filled())))?;
+                }
+            }
+            if panel.series.len() > 1 || !panel.series.is_empty() && !panel.series[0].label.is_empty() {
+                chart
+                    .configure_series_labels()
+                    .background_style(WHITE.mix(0.8))
+                    .border_style(BLACK)
+                    .draw()?;
+            }
+        }};
+    }
+    match panel.log {
+        (false, false) => draw!(b.build_cartesian_2d(xs.0..xs.1, ys.0..ys.1)?),
+        (true, false) => draw!(b.build_cartesian_2d((xs.0..xs.1).log_scale(), ys.0..ys.1)?),
+        (false, true) => draw!(b.build_cartesian_2d(xs.0..xs.1, (ys.0..ys.1).log_scale())?),
+        (true, true) => draw!(b.build_cartesian_2d((xs.0..xs.1).log_scale(), (ys.0..ys.1).log_scale())?),
+    }
+    Ok(())
+}
+
+/// One snapshot of particles: positions, a scalar per particle, and wall particles in grey.
+pub struct Snapshot {
+    pub title: String,
+    pub points: Vec<(f64, f64)>,
+    pub values: Vec<f64>,
+    pub walls: Vec<(f64, f64)>,
+}
+
+/// Colour of `v` in [lo, hi] on a blue-to-red map.
+fn colour(v: f64, lo: f64, hi: f64) -> RGBColor {
+    let t = if hi > lo { ((v - lo) / (hi - lo)).clamp(0.0, 1.0) } else { 0.5 };
+    let c = HSLColor(0.66 * (1.0 - t), 0.9, 0.45).to_rgba();
+    RGBColor(c.0, c.1, c.2)
+}
+
+/// Snapshots in a grid sharing one colour scale (`field` names it) and one window `view`
+/// ((x0, x1), (y0, y1)), like Fang 2006 Fig. 3.
+pub fn particle_snapshots(
+    path: &Path,
+    shots: &[Snapshot],
+    field: &str,
+    cols: usize,
+    view: ((f64, f64), (f64, f64)),
+    size: (u32, u32),
+) -> PlotResult {
+    let root = BitMapBackend::new(path, size).into_drawing_area();
+    root.fill(&WHITE)?;
+    let (title_area, body) = root.split_vertically(40);
+    let (lo, hi) = bounds(shots.iter().flat_map(|s| s.values.iter().copied()), false);
+    title_area.titled(
+        &format!("particles coloured by {field}: {lo:.3} (blue) to {hi:.3} (red)"),
+        ("sans-serif", 22),
+    )?;
+    let rows = shots.len().div_ceil(cols);
+    let areas = body.split_evenly((rows, cols));
+    // Equal aspect: widen the shorter side of the window to the panel's plotting area.
+    let (pw, ph) = (
+        size.0 as f64 / cols as f64 - 60.0,
+        (size.1 as f64 - 40.0) / rows as f64 - 50.0,
+    );
+    let ((mut x0, mut x1), (mut y0, mut y1)) = view;
+    let (wx, wy) = (x1 - x0, y1 - y0);
+    if wx / wy < pw / ph {
+        let grow = 0.5 * (wy * pw / ph - wx);
+        x0 -= grow;
+        x1 += grow;
+    } else {
+        let grow = wx * ph / pw - wy;
+        y1 += grow;
+        let _ = &mut y0;
+    }
+    for (shot, area) in shots.iter().zip(areas.iter()) {
+        let mut chart = ChartBuilder::on(area)
+            .caption(&shot.title, ("sans-serif", 16))
+            .margin(6)
+            .x_label_area_size(25)
+            .y_label_area_size(45)
+            .build_cartesian_2d(x0..x1, y0..y1)?;
+        chart.configure_mesh().disable_mesh().draw()?;
+        chart.draw_series(
+            shot.walls
+                .iter()
+                .map(|p| Circle::new(*p, 1, RGBColor(150, 150, 150).filled())),
+        )?;
+        chart.draw_series(
+            shot.points
+                .iter()
+                .zip(&shot.values)
+                .map(|(p, v)| Circle::new(*p, 2, colour(*v, lo, hi).filled())),
+        )?;
+    }
+    root.present()?;
+    Ok(())
+}
