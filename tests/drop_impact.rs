@@ -1,0 +1,248 @@
+//! Acceptance tests of the WCSPH drop impact (issue 2), at resolutions that keep the suite fast.
+//! Fang 2006 section 4: D = 2 cm, V = 1 m/s, nu = 0.004 m2/s (Re = 5), c = 12.5 m/s; Oldroyd-B with
+//! lambda1 = 0.02 s, lambda2 = 0.002 s (We = 1, beta = 0.1).
+
+use viscosph::config::{SceneConfig, Value};
+use viscosph::diagnostics::Outputs;
+use viscosph::simulation::{SimError, Simulation};
+use viscosph::Vec2;
+
+fn cfg(pairs: &[(&str, Value)]) -> SceneConfig {
+    let mut c = SceneConfig::default();
+    for (k, v) in pairs {
+        c.set(k, v.clone()).unwrap();
+    }
+    c.validate().unwrap();
+    c
+}
+
+fn r(x: f64) -> Value {
+    Value::Real(x)
+}
+fn i(x: i64) -> Value {
+    Value::Integer(x)
+}
+fn s(x: &str) -> Value {
+    Value::Text(x.into())
+}
+
+/// Outputs every `dt` up to `t_end`, or the breakdown.
+fn series(c: &SceneConfig, t_end: f64, dt: f64) -> (Vec<(f64, Outputs)>, Option<SimError>, Simulation) {
+    let mut sim = Simulation::new(c.clone()).unwrap();
+    let mut out = vec![(0.0, sim.outputs())];
+    let n = (t_end / dt).round() as usize;
+    for k in 1..=n {
+        if let Err(e) = sim.advance_to(k as f64 * dt) {
+            return (out, Some(e), sim);
+        }
+        out.push((sim.time(), sim.outputs()));
+    }
+    (out, None, sim)
+}
+
+const D: f64 = 0.02;
+const T_STAR: f64 = 0.02; // D / V
+
+#[test]
+fn newtonian_drop_spreads_monotonically_without_fracture() {
+    let c = cfg(&[("rheology", s("newtonian")), ("artificial_stress_epsilon", r(0.2))]);
+    let (ser, err, _) = series(&c, 8.0 * T_STAR, 0.1 * T_STAR);
+    assert!(err.is_none(), "{err:?}");
+    let impact = ser.iter().position(|(_, o)| o.wall_force_normal > 0.0).unwrap();
+    for w in ser[impact..].windows(2) {
+        assert!(
+            w[1].1.drop_width >= w[0].1.drop_width,
+            "W* fell from {} to {} at t* = {}",
+            w[0].1.drop_width / D,
+            w[1].1.drop_width / D,
+            w[1].0 / T_STAR
+        );
+    }
+    let last = ser.last().unwrap().1;
+    assert!(last.drop_width / D > 1.8, "spread to W* = {}", last.drop_width / D);
+    for (t, o) in &ser {
+        assert!(o.volume_error.abs() < 0.04, "volume error {} at t = {t}", o.volume_error);
+        assert_eq!(o.void_fraction, 0.0, "holes at t = {t}");
+    }
+}
+
+#[test]
+fn oldroyd_b_drop_spreads_retracts_and_stays_stable() {
+    let c = cfg(&[("particles_per_diameter", i(30))]);
+    let (ser, err, _) = series(&c, 8.0 * T_STAR, 0.05 * T_STAR);
+    assert!(err.is_none(), "{err:?}");
+    let w: Vec<(f64, f64)> = ser.iter().map(|(t, o)| (t / T_STAR, o.drop_width / D)).collect();
+    // The first maximum of W* after impact, then a minimum, both before t* = 6.
+    let (imax, wmax) = w
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| p.0 < 6.0)
+        .fold((0, 0.0), |m, (k, p)| if p.1 > m.1 { (k, p.1) } else { m });
+    let (imin, wmin) = w[imax..]
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| p.0 < 6.0)
+        .fold((0, f64::MAX), |m, (k, p)| if p.1 < m.1 { (k + imax, p.1) } else { m });
+    assert!(wmax > 1.8, "spreads: max W* = {wmax}");
+    assert!(
+        wmax - wmin > 0.05 * wmax && imin > imax && w[imin].0 < 6.0,
+        "retracts: max W* {wmax} at t* {} then min {wmin} at t* {}",
+        w[imax].0,
+        w[imin].0
+    );
+    let last = ser.last().unwrap().1;
+    assert!(last.max_conformation_trace.is_finite() && last.min_conformation_det > 0.0);
+    assert!(ser.iter().all(|(_, o)| o.void_fraction == 0.0));
+}
+
+#[test]
+fn oldroyd_b_without_artificial_stress_reports_fracture() {
+    let c = cfg(&[
+        ("particles_per_diameter", i(30)),
+        ("artificial_stress_epsilon", r(0.0)),
+    ]);
+    let (ser, err, sim) = series(&c, 8.0 * T_STAR, 0.05 * T_STAR);
+    let err = err.expect("the tensile instability must be reported");
+    let msg = err.to_string();
+    assert!(msg.contains("tensile instability") && msg.contains("t = "), "{msg}");
+    match err {
+        SimError::Breakdown { time, step, .. } => {
+            assert!(time > 0.0 && step > 0);
+            // The state is left at the last good step, with finite outputs.
+            assert!(sim.time() <= time + 1e-12);
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(ser.iter().all(|(_, o)| o.values().iter().all(|v| v.is_finite())));
+}
+
+#[test]
+fn momentum_balance_on_an_inclined_plate() {
+    let c = cfg(&[
+        ("plate_inclination", r(30.0)),
+        ("rheology", s("newtonian")),
+        ("artificial_stress_epsilon", r(0.2)),
+    ]);
+    let dt = 0.025 * T_STAR;
+    let mut sim = Simulation::new(c.clone()).unwrap();
+    let p0 = sim.fluid_momentum();
+    let mass = sim.fluid_mass();
+    let plate = sim.state().plate.clone().unwrap();
+    let mut prev = sim.outputs();
+    let (mut int_n, mut int_t) = (0.0, 0.0);
+    let n = (6.0 * T_STAR / dt).round() as usize;
+    for k in 1..=n {
+        sim.advance_to(k as f64 * dt).unwrap();
+        let o = sim.outputs();
+        int_n += 0.5 * dt * (o.wall_force_normal + prev.wall_force_normal);
+        int_t += 0.5 * dt * (o.wall_force_tangential + prev.wall_force_tangential);
+        prev = o;
+    }
+    let t = sim.time();
+    // Impulse of the plate on the fluid: change of momentum minus the gravity impulse.
+    let j = sim.fluid_momentum() - p0 - Vec2::new(0.0, -c.gravity) * mass * t;
+    // Force of the fluid on the plate is -j; outputs: normal into the plate (-n), tangential along t.
+    let (want_n, want_t) = (j.dot(&plate.n), -j.dot(&plate.t));
+    assert!(want_n.abs() > 1e-3 && want_t.abs() > 1e-4, "{want_n} {want_t}");
+    let (en, et) = ((int_n - want_n) / want_n, (int_t - want_t) / want_t);
+    assert!(
+        en.abs() < 0.03 && et.abs() < 0.03,
+        "normal {int_n} vs {want_n} ({en:+.4}), tangential {int_t} vs {want_t} ({et:+.4})"
+    );
+    // The exact accumulated impulse matches to round-off.
+    let acc = sim.state().wall_impulse;
+    assert!((acc + j).norm() < 1e-9 * j.norm(), "{acc} vs {}", -j);
+}
+
+#[test]
+fn drop_at_rest_weighs_on_the_plate() {
+    // A viscous drop set down gently comes to rest; the plate then carries its weight.
+    let c = cfg(&[
+        ("rheology", s("newtonian")),
+        ("viscosity", r(40.0)),
+        ("impact_velocity", r(0.0)),
+        ("drop_height", r(0.5 * D + 2.0 * D / 20.0)),
+        ("artificial_stress_epsilon", r(0.2)),
+    ]);
+    let mut sim = Simulation::new(c.clone()).unwrap();
+    sim.advance_to(0.3).unwrap();
+    let weight = sim.fluid_mass() * c.gravity;
+    let o = sim.outputs();
+    // Quasi-static: a viscous drop keeps creeping outward at mm/s, but its kinetic energy is
+    // negligible against its potential energy scale M g D.
+    assert!(o.kinetic_energy < 1e-3 * weight * D, "not at rest: KE = {}", o.kinetic_energy);
+    let err = (o.wall_force_normal - weight) / weight;
+    assert!(err.abs() < 0.02, "normal force {} vs weight {weight} ({err:+.4})", o.wall_force_normal);
+    assert!(o.wall_force_tangential.abs() < 1e-3 * weight);
+}
+
+#[test]
+fn level_plate_spreads_symmetrically() {
+    let c = cfg(&[]);
+    let (ser, err, _) = series(&c, 4.0 * T_STAR, 0.1 * T_STAR);
+    assert!(err.is_none(), "{err:?}");
+    for (t, o) in &ser {
+        assert!(
+            (o.spread_front - o.spread_back).abs() <= c.dx(),
+            "front {} back {} at t = {t}",
+            o.spread_front,
+            o.spread_back
+        );
+        assert!(o.wall_force_tangential.abs() < 1e-6 * o.wall_force_normal.abs().max(1.0));
+    }
+}
+
+#[test]
+fn inclined_plate_spreads_downhill() {
+    let c = cfg(&[("plate_inclination", r(45.0))]);
+    let (ser, err, _) = series(&c, 4.0 * T_STAR, 0.5 * T_STAR);
+    assert!(err.is_none(), "{err:?}");
+    let o = ser.last().unwrap().1;
+    assert!(o.spread_front > o.spread_back + 2.0 * c.dx(), "{} vs {}", o.spread_front, o.spread_back);
+    assert!(o.wall_force_tangential > 0.0, "the fluid drags the plate downhill");
+}
+
+#[test]
+fn outputs_are_bitwise_identical_on_one_and_two_threads() {
+    let c = cfg(&[("plate_inclination", r(20.0))]);
+    let run = |threads| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| {
+                let (ser, err, sim) = series(&c, 2.5 * T_STAR, 0.25 * T_STAR);
+                assert!(err.is_none());
+                let bits: Vec<u64> = ser
+                    .iter()
+                    .flat_map(|(t, o)| std::iter::once(*t).chain(o.values()))
+                    .map(f64::to_bits)
+                    .collect();
+                (bits, sim.save_state())
+            })
+    };
+    assert_eq!(run(1), run(2));
+}
+
+#[test]
+fn too_slow_sound_speed_stops_with_a_message() {
+    let c = cfg(&[("sound_speed", r(0.5)), ("impact_velocity", r(3.0))]);
+    let (_, err, _) = series(&c, 4.0 * T_STAR, 0.1 * T_STAR);
+    let msg = err.expect("breakdown").to_string();
+    assert!(msg.contains("step") && msg.contains("t = "), "{msg}");
+}
+
+#[test]
+fn save_and_restore_continue_identically() {
+    let c = cfg(&[("plate_inclination", r(10.0))]);
+    let mut a = Simulation::new(c.clone()).unwrap();
+    a.advance_to(0.035).unwrap();
+    let saved = a.save_state();
+    a.advance_to(0.05).unwrap();
+    let mut b = Simulation::new(c).unwrap();
+    b.restore_state(&saved).unwrap();
+    assert_eq!(b.time(), 0.035);
+    b.advance_to(0.05).unwrap();
+    assert_eq!(a.outputs(), b.outputs());
+    assert_eq!(a.save_state(), b.save_state());
+}
