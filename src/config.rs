@@ -117,7 +117,10 @@ pub const RHEOLOGIES: &[(&str, &str)] = &[
     ("cross", "Cross shear-thinning generalized Newtonian"),
 ];
 pub const CONFORMATION_METHODS: &[(&str, &str)] = &[
-    ("direct", "direct upper-convected update of the conformation tensor"),
+    (
+        "direct",
+        "direct upper-convected update of the conformation tensor",
+    ),
     ("log", "log-conformation (King & Lind eqs. 12-19, 29-33)"),
 ];
 pub const ARTIFICIAL_STRESS_KINDS: &[(&str, &str)] = &[
@@ -132,7 +135,10 @@ pub const ARTIFICIAL_STRESS_KINDS: &[(&str, &str)] = &[
 ];
 pub const EQUATIONS_OF_STATE: &[(&str, &str)] = &[
     ("linear", "p = c^2 (rho - rho0), Fang 2006 eq. 10"),
-    ("tait", "p = rho0 c^2 / 7 ((rho/rho0)^7 - 1), Ren 2015 eq. 8"),
+    (
+        "tait",
+        "p = rho0 c^2 / 7 ((rho/rho0)^7 - 1), Ren 2015 eq. 8",
+    ),
 ];
 
 /// The parameter table: the single source of names, value references, defaults and ranges.
@@ -654,12 +660,24 @@ mod tests {
         let mut c = SceneConfig::default();
         let e = c.set("plate_inclination", Value::Real(90.0)).unwrap_err();
         let msg = e.to_string();
-        assert!(msg.contains("plate_inclination") && msg.contains("90") && msg.contains("[0, 90)"), "{msg}");
-        let e = c.set("drop_diameter", Value::Real(-1.0)).unwrap_err().to_string();
+        assert!(
+            msg.contains("plate_inclination") && msg.contains("90") && msg.contains("[0, 90)"),
+            "{msg}"
+        );
+        let e = c
+            .set("drop_diameter", Value::Real(-1.0))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("drop_diameter") && e.contains("-1"), "{e}");
-        let e = c.set("viscosity_ratio", Value::Real(f64::NAN)).unwrap_err().to_string();
+        let e = c
+            .set("viscosity_ratio", Value::Real(f64::NAN))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("viscosity_ratio") && e.contains("NaN"), "{e}");
-        assert!(matches!(c.set("nonsense", Value::Real(1.0)), Err(ConfigError::Unknown(_))));
+        assert!(matches!(
+            c.set("nonsense", Value::Real(1.0)),
+            Err(ConfigError::Unknown(_))
+        ));
     }
 
     #[test]
@@ -669,10 +687,17 @@ mod tests {
         c.set("plate_inclination", Value::Real(30.0)).unwrap();
         let back = SceneConfig::from_toml_str(&c.to_toml_string()).unwrap();
         assert_eq!(back, c);
-        let e = SceneConfig::from_toml_str("drop_diametr = 0.1").unwrap_err().to_string();
+        let e = SceneConfig::from_toml_str("drop_diametr = 0.1")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("drop_diametr"), "{e}");
-        let e = SceneConfig::from_toml_str("rheology = \"honey\"").unwrap_err().to_string();
-        assert!(e.contains("rheology") && e.contains("honey") && e.contains("oldroyd_b"), "{e}");
+        let e = SceneConfig::from_toml_str("rheology = \"honey\"")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("rheology") && e.contains("honey") && e.contains("oldroyd_b"),
+            "{e}"
+        );
     }
 
     #[test]
@@ -688,7 +713,10 @@ mod tests {
         let mut c = SceneConfig::default();
         c.particles_per_diameter = 4000;
         let e = c.validate().unwrap_err().to_string();
-        assert!(e.contains("particles_per_diameter") && e.contains("memory"), "{e}");
+        assert!(
+            e.contains("particles_per_diameter") && e.contains("memory"),
+            "{e}"
+        );
     }
 
     #[test]

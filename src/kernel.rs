@@ -187,9 +187,15 @@ mod tests {
         for i in 1..300 {
             let r = i as f64 / 300.0 * k.radius() * 1.01;
             let fd = (k.w(r + eps) - k.w(r - eps)) / (2.0 * eps);
-            assert!((fd - k.dw(r)).abs() < 1e-5 * k.w(0.0) / k.h(), "dW at r={r}");
+            assert!(
+                (fd - k.dw(r)).abs() < 1e-5 * k.w(0.0) / k.h(),
+                "dW at r={r}"
+            );
             let fd2 = (k.dw(r + eps) - k.dw(r - eps)) / (2.0 * eps);
-            assert!((fd2 - k.d2w(r)).abs() < 1e-4 * k.w(0.0) / k.h().powi(2), "d2W at r={r}");
+            assert!(
+                (fd2 - k.d2w(r)).abs() < 1e-4 * k.w(0.0) / k.h().powi(2),
+                "d2W at r={r}"
+            );
         }
         assert_eq!(k.w(k.radius()), 0.0);
         assert_eq!(k.dw(k.radius() * 1.0001), 0.0);

@@ -155,6 +155,12 @@ impl NeighborList {
         Self { start, idx }
     }
 
+    /// Index of query point i's first entry in the flat pair arrays.
+    #[inline]
+    pub fn offset(&self, i: usize) -> usize {
+        self.start[i] as usize
+    }
+
     /// Neighbours of query point i, ascending.
     #[inline]
     pub fn of(&self, i: usize) -> &[u32] {
@@ -168,6 +174,19 @@ impl NeighborList {
 
     pub fn is_empty(&self) -> bool {
         self.len() == 0
+    }
+
+    /// Split `buf` (one entry per stored pair) into one slice per query point, so per-pair data
+    /// aligned with the lists can be written in parallel, each query point writing its own slice.
+    pub fn split_mut<'a, T>(&self, mut buf: &'a mut [T]) -> Vec<&'a mut [T]> {
+        assert_eq!(buf.len(), self.idx.len());
+        let mut out = Vec::with_capacity(self.len());
+        for w in self.start.windows(2) {
+            let (head, tail) = buf.split_at_mut((w[1] - w[0]) as usize);
+            out.push(head);
+            buf = tail;
+        }
+        out
     }
 
     /// Total number of stored pairs.

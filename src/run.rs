@@ -88,14 +88,24 @@ fn write_vtk(dir: &Path, k: usize, sim: &Simulation) -> std::io::Result<()> {
     let f = &sim.state().fluid;
     let p: Vec<f64> = f.rho.clone();
     let (name, values) = colour_field(sim);
-    let name = if name.starts_with("tr") { "trace_A" } else { "speed" };
+    let name = if name.starts_with("tr") {
+        "trace_A"
+    } else {
+        "speed"
+    };
     vtk::write_particles(
         &dir.join(format!("particles_{k:04}.vtk")),
         &f.x,
         &f.v,
         &[
-            vtk::Field { name: "density", values: &p },
-            vtk::Field { name, values: &values },
+            vtk::Field {
+                name: "density",
+                values: &p,
+            },
+            vtk::Field {
+                name,
+                values: &values,
+            },
         ],
     )?;
     let w = sim.wall_positions();
@@ -153,7 +163,11 @@ pub fn run(cfg: &SceneConfig, opts: &RunOptions) -> Result<RunResult, Box<dyn st
         }
         if let Some(b) = &bar {
             b.set_position(k as u64);
-            b.set_message(format!("t* = {:.2}  W* = {:.3}", t / ts, o.drop_width / cfg.drop_diameter));
+            b.set_message(format!(
+                "t* = {:.2}  W* = {:.3}",
+                t / ts,
+                o.drop_width / cfg.drop_diameter
+            ));
         }
     }
     if let Some(b) = bar {
@@ -168,10 +182,21 @@ pub fn run(cfg: &SceneConfig, opts: &RunOptions) -> Result<RunResult, Box<dyn st
     };
     if let Some(d) = &opts.out_dir {
         csv::write_timeseries(&d.join("timeseries.csv"), &result.series)?;
-        plot_width_height(&d.join("width_height.png"), cfg, &[("".into(), &result.series)])?;
+        plot_width_height(
+            &d.join("width_height.png"),
+            cfg,
+            &[("".into(), &result.series)],
+        )?;
         let (field, _) = colour_field(&sim);
         let view = view_of(&shots);
-        plot::particle_snapshots(&d.join("particles.png"), &shots, field, 3, view, (1500, 1100))?;
+        plot::particle_snapshots(
+            &d.join("particles.png"),
+            &shots,
+            field,
+            3,
+            view,
+            (1500, 1100),
+        )?;
         std::fs::write(d.join("scene.toml"), cfg.to_toml_string())?;
     }
     Ok(result)

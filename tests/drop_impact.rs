@@ -27,7 +27,11 @@ fn s(x: &str) -> Value {
 }
 
 /// Outputs every `dt` up to `t_end`, or the breakdown.
-fn series(c: &SceneConfig, t_end: f64, dt: f64) -> (Vec<(f64, Outputs)>, Option<SimError>, Simulation) {
+fn series(
+    c: &SceneConfig,
+    t_end: f64,
+    dt: f64,
+) -> (Vec<(f64, Outputs)>, Option<SimError>, Simulation) {
     let mut sim = Simulation::new(c.clone()).unwrap();
     let mut out = vec![(0.0, sim.outputs())];
     let n = (t_end / dt).round() as usize;
@@ -45,10 +49,16 @@ const T_STAR: f64 = 0.02; // D / V
 
 #[test]
 fn newtonian_drop_spreads_monotonically_without_fracture() {
-    let c = cfg(&[("rheology", s("newtonian")), ("artificial_stress_epsilon", r(0.2))]);
+    let c = cfg(&[
+        ("rheology", s("newtonian")),
+        ("artificial_stress_epsilon", r(0.2)),
+    ]);
     let (ser, err, _) = series(&c, 8.0 * T_STAR, 0.1 * T_STAR);
     assert!(err.is_none(), "{err:?}");
-    let impact = ser.iter().position(|(_, o)| o.wall_force_normal > 0.0).unwrap();
+    let impact = ser
+        .iter()
+        .position(|(_, o)| o.wall_force_normal > 0.0)
+        .unwrap();
     for w in ser[impact..].windows(2) {
         assert!(
             w[1].1.drop_width >= w[0].1.drop_width,
@@ -59,9 +69,17 @@ fn newtonian_drop_spreads_monotonically_without_fracture() {
         );
     }
     let last = ser.last().unwrap().1;
-    assert!(last.drop_width / D > 1.8, "spread to W* = {}", last.drop_width / D);
+    assert!(
+        last.drop_width / D > 1.8,
+        "spread to W* = {}",
+        last.drop_width / D
+    );
     for (t, o) in &ser {
-        assert!(o.volume_error.abs() < 0.04, "volume error {} at t = {t}", o.volume_error);
+        assert!(
+            o.volume_error.abs() < 0.04,
+            "volume error {} at t = {t}",
+            o.volume_error
+        );
         assert_eq!(o.void_fraction, 0.0, "holes at t = {t}");
     }
 }
@@ -71,7 +89,10 @@ fn oldroyd_b_drop_spreads_retracts_and_stays_stable() {
     let c = cfg(&[("particles_per_diameter", i(30))]);
     let (ser, err, _) = series(&c, 8.0 * T_STAR, 0.05 * T_STAR);
     assert!(err.is_none(), "{err:?}");
-    let w: Vec<(f64, f64)> = ser.iter().map(|(t, o)| (t / T_STAR, o.drop_width / D)).collect();
+    let w: Vec<(f64, f64)> = ser
+        .iter()
+        .map(|(t, o)| (t / T_STAR, o.drop_width / D))
+        .collect();
     // The first maximum of W* after impact, then a minimum, both before t* = 6.
     let (imax, wmax) = w
         .iter()
@@ -82,7 +103,10 @@ fn oldroyd_b_drop_spreads_retracts_and_stays_stable() {
         .iter()
         .enumerate()
         .filter(|(_, p)| p.0 < 6.0)
-        .fold((0, f64::MAX), |m, (k, p)| if p.1 < m.1 { (k + imax, p.1) } else { m });
+        .fold(
+            (0, f64::MAX),
+            |m, (k, p)| if p.1 < m.1 { (k + imax, p.1) } else { m },
+        );
     assert!(wmax > 1.8, "spreads: max W* = {wmax}");
     assert!(
         wmax - wmin > 0.05 * wmax && imin > imax && w[imin].0 < 6.0,
@@ -104,7 +128,10 @@ fn oldroyd_b_without_artificial_stress_reports_fracture() {
     let (ser, err, sim) = series(&c, 8.0 * T_STAR, 0.05 * T_STAR);
     let err = err.expect("the tensile instability must be reported");
     let msg = err.to_string();
-    assert!(msg.contains("tensile instability") && msg.contains("t = "), "{msg}");
+    assert!(
+        msg.contains("tensile instability") && msg.contains("t = "),
+        "{msg}"
+    );
     match err {
         SimError::Breakdown { time, step, .. } => {
             assert!(time > 0.0 && step > 0);
@@ -113,7 +140,9 @@ fn oldroyd_b_without_artificial_stress_reports_fracture() {
         }
         other => panic!("{other:?}"),
     }
-    assert!(ser.iter().all(|(_, o)| o.values().iter().all(|v| v.is_finite())));
+    assert!(ser
+        .iter()
+        .all(|(_, o)| o.values().iter().all(|v| v.is_finite())));
 }
 
 #[test]
@@ -143,7 +172,10 @@ fn momentum_balance_on_an_inclined_plate() {
     let j = sim.fluid_momentum() - p0 - Vec2::new(0.0, -c.gravity) * mass * t;
     // Force of the fluid on the plate is -j; outputs: normal into the plate (-n), tangential along t.
     let (want_n, want_t) = (j.dot(&plate.n), -j.dot(&plate.t));
-    assert!(want_n.abs() > 1e-3 && want_t.abs() > 1e-4, "{want_n} {want_t}");
+    assert!(
+        want_n.abs() > 1e-3 && want_t.abs() > 1e-4,
+        "{want_n} {want_t}"
+    );
     let (en, et) = ((int_n - want_n) / want_n, (int_t - want_t) / want_t);
     assert!(
         en.abs() < 0.03 && et.abs() < 0.03,
@@ -170,9 +202,17 @@ fn drop_at_rest_weighs_on_the_plate() {
     let o = sim.outputs();
     // Quasi-static: a viscous drop keeps creeping outward at mm/s, but its kinetic energy is
     // negligible against its potential energy scale M g D.
-    assert!(o.kinetic_energy < 1e-3 * weight * D, "not at rest: KE = {}", o.kinetic_energy);
+    assert!(
+        o.kinetic_energy < 1e-3 * weight * D,
+        "not at rest: KE = {}",
+        o.kinetic_energy
+    );
     let err = (o.wall_force_normal - weight) / weight;
-    assert!(err.abs() < 0.02, "normal force {} vs weight {weight} ({err:+.4})", o.wall_force_normal);
+    assert!(
+        err.abs() < 0.02,
+        "normal force {} vs weight {weight} ({err:+.4})",
+        o.wall_force_normal
+    );
     assert!(o.wall_force_tangential.abs() < 1e-3 * weight);
 }
 
@@ -198,8 +238,16 @@ fn inclined_plate_spreads_downhill() {
     let (ser, err, _) = series(&c, 4.0 * T_STAR, 0.5 * T_STAR);
     assert!(err.is_none(), "{err:?}");
     let o = ser.last().unwrap().1;
-    assert!(o.spread_front > o.spread_back + 2.0 * c.dx(), "{} vs {}", o.spread_front, o.spread_back);
-    assert!(o.wall_force_tangential > 0.0, "the fluid drags the plate downhill");
+    assert!(
+        o.spread_front > o.spread_back + 2.0 * c.dx(),
+        "{} vs {}",
+        o.spread_front,
+        o.spread_back
+    );
+    assert!(
+        o.wall_force_tangential > 0.0,
+        "the fluid drags the plate downhill"
+    );
 }
 
 #[test]

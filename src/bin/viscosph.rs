@@ -8,7 +8,11 @@ use viscosph::run::{run, RunOptions};
 use viscosph::SceneConfig;
 
 #[derive(Parser)]
-#[command(name = "viscosph", version, about = "Viscoelastic free-surface flows by SPH")]
+#[command(
+    name = "viscosph",
+    version,
+    about = "Viscoelastic free-surface flows by SPH"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,

@@ -34,7 +34,11 @@ pub fn read_timeseries(path: &Path) -> std::io::Result<(Vec<String>, Vec<Vec<f64
         .collect();
     let rows = lines
         .filter(|l| !l.trim().is_empty())
-        .map(|l| l.split(',').map(|v| v.parse().unwrap_or(f64::NAN)).collect())
+        .map(|l| {
+            l.split(',')
+                .map(|v| v.parse().unwrap_or(f64::NAN))
+                .collect()
+        })
         .collect();
     Ok((header, rows))
 }

@@ -51,9 +51,24 @@ pub fn line_panels(path: &Path, panels: &[Panel], cols: usize, size: (u32, u32))
     Ok(())
 }
 
-fn draw_panel(panel: &Panel, area: &DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>) -> PlotResult {
-    let xs = bounds(panel.series.iter().flat_map(|s| s.points.iter().map(|p| p.0)), panel.log.0);
-    let ys = bounds(panel.series.iter().flat_map(|s| s.points.iter().map(|p| p.1)), panel.log.1);
+fn draw_panel(
+    panel: &Panel,
+    area: &DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>,
+) -> PlotResult {
+    let xs = bounds(
+        panel
+            .series
+            .iter()
+            .flat_map(|s| s.points.iter().map(|p| p.0)),
+        panel.log.0,
+    );
+    let ys = bounds(
+        panel
+            .series
+            .iter()
+            .flat_map(|s| s.points.iter().map(|p| p.1)),
+        panel.log.1,
+    );
     let mut b = ChartBuilder::on(area);
     b.caption(&panel.title, ("sans-serif", 20))
         .margin(12)
@@ -86,7 +101,9 @@ fn draw_panel(panel: &Panel, area: &DrawingArea<BitMapBackend<'_>, plotters::coo
                     chart.draw_series(pts.iter().map(|p| Circle::new(*p, 3, color.filled())))?;
                 }
             }
-            if panel.series.len() > 1 || !panel.series.is_empty() && !panel.series[0].label.is_empty() {
+            if panel.series.len() > 1
+                || !panel.series.is_empty() && !panel.series[0].label.is_empty()
+            {
                 chart
                     .configure_series_labels()
                     .background_style(WHITE.mix(0.8))
@@ -99,7 +116,9 @@ fn draw_panel(panel: &Panel, area: &DrawingArea<BitMapBackend<'_>, plotters::coo
         (false, false) => draw!(b.build_cartesian_2d(xs.0..xs.1, ys.0..ys.1)?),
         (true, false) => draw!(b.build_cartesian_2d((xs.0..xs.1).log_scale(), ys.0..ys.1)?),
         (false, true) => draw!(b.build_cartesian_2d(xs.0..xs.1, (ys.0..ys.1).log_scale())?),
-        (true, true) => draw!(b.build_cartesian_2d((xs.0..xs.1).log_scale(), (ys.0..ys.1).log_scale())?),
+        (true, true) => {
+            draw!(b.build_cartesian_2d((xs.0..xs.1).log_scale(), (ys.0..ys.1).log_scale())?)
+        }
     }
     Ok(())
 }
@@ -114,7 +133,11 @@ pub struct Snapshot {
 
 /// Colour of `v` in [lo, hi] on a blue-to-red map.
 fn colour(v: f64, lo: f64, hi: f64) -> RGBColor {
-    let t = if hi > lo { ((v - lo) / (hi - lo)).clamp(0.0, 1.0) } else { 0.5 };
+    let t = if hi > lo {
+        ((v - lo) / (hi - lo)).clamp(0.0, 1.0)
+    } else {
+        0.5
+    };
     let c = HSLColor(0.66 * (1.0 - t), 0.9, 0.45).to_rgba();
     RGBColor(c.0, c.1, c.2)
 }
@@ -163,16 +186,21 @@ pub fn particle_snapshots(
             .y_label_area_size(45)
             .build_cartesian_2d(x0..x1, y0..y1)?;
         chart.configure_mesh().disable_mesh().draw()?;
+        // Small squares in pixel offsets: far cheaper to rasterise than circles at 10^5 particles.
+        let dot = |p: (f64, f64), r: i32, c: RGBColor| {
+            EmptyElement::at(p) + Rectangle::new([(-r, -r), (r, r)], c.filled())
+        };
+        let r = if shot.points.len() > 20_000 { 0 } else { 1 };
         chart.draw_series(
             shot.walls
                 .iter()
-                .map(|p| Circle::new(*p, 1, RGBColor(150, 150, 150).filled())),
+                .map(|p| dot(*p, 0, RGBColor(150, 150, 150))),
         )?;
         chart.draw_series(
             shot.points
                 .iter()
                 .zip(&shot.values)
-                .map(|(p, v)| Circle::new(*p, 2, colour(*v, lo, hi).filled())),
+                .map(|(p, v)| dot(*p, r, colour(*v, lo, hi))),
         )?;
     }
     root.present()?;

@@ -44,8 +44,16 @@ pub fn fang_stress(eps: f64, sigma: &Mat2, rho: f64) -> Mat2 {
     let sp_xx = c2 * sxx + 2.0 * cs * sxy + s2 * syy; // eq. (43)
     let sp_yy = s2 * sxx - 2.0 * cs * sxy + c2 * syy; // eq. (44)
     let inv_rho2 = 1.0 / (rho * rho);
-    let rxx = if sp_xx > 0.0 { -eps * sp_xx * inv_rho2 } else { 0.0 }; // eq. (42)
-    let ryy = if sp_yy > 0.0 { -eps * sp_yy * inv_rho2 } else { 0.0 };
+    let rxx = if sp_xx > 0.0 {
+        -eps * sp_xx * inv_rho2
+    } else {
+        0.0
+    }; // eq. (42)
+    let ryy = if sp_yy > 0.0 {
+        -eps * sp_yy * inv_rho2
+    } else {
+        0.0
+    };
     let xy = cs * (rxx - ryy); // eq. (40)
     Mat2::new(c2 * rxx + s2 * ryy, xy, xy, s2 * rxx + c2 * ryy)
 }
@@ -74,7 +82,10 @@ mod tests {
     #[test]
     fn viscosity_only_for_approaching_pairs() {
         let x = Vec2::new(1.0, 0.0);
-        assert_eq!(viscosity(1.0, 2.0, 1.0, 10.0, 1.0, &Vec2::new(1.0, 0.0), &x, 1.0), 0.0);
+        assert_eq!(
+            viscosity(1.0, 2.0, 1.0, 10.0, 1.0, &Vec2::new(1.0, 0.0), &x, 1.0),
+            0.0
+        );
         assert!(viscosity(1.0, 2.0, 1.0, 10.0, 1.0, &Vec2::new(-1.0, 0.0), &x, 1.0) > 0.0);
     }
 }

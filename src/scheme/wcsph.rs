@@ -26,8 +26,6 @@ use crate::simulation::State;
 use crate::{Mat2, Vec2};
 use rayon::prelude::*;
 
-/// Exponent n of the artificial-stress factor f_ij^n (Fang 2006 section 3.2).
-const ART_STRESS_EXPONENT: i32 = 4;
 /// Neighbour-list skin as a fraction of h.
 const SKIN: f64 = 0.25;
 /// A particle this far below the plate has gone through it.
@@ -113,6 +111,17 @@ pub struct Wcsph<K: Kernel, R: Rheology> {
     all_rho: Vec<f64>,
     all_sigma: Vec<Mat2>,
     all_art: Vec<Mat2>,
+    /// m / rho of every particle.
+    all_vol: Vec<f64>,
+    /// sigma / rho^2 of every particle (Fang 2006 eq. 27).
+    all_sr2: Vec<Mat2>,
+    // Kernel values of the pairs inside the support, aligned with `nlist` (SPHinXsys's habit of
+    // caching W and grad W once per stage): neighbour index, grad_i W_ij, W_ij; `pair_len[i]` of
+    // particle i's slots are used.
+    pair_j: Vec<u32>,
+    pair_grad: Vec<Vec2>,
+    pair_w: Vec<f64>,
+    pair_len: Vec<u32>,
     /// Polymer stress of fluid particles (empty for inelastic models).
     tau_p: Vec<Mat2>,
     // Fluid rates.
@@ -140,6 +149,12 @@ impl<K: Kernel, R: Rheology> Wcsph<K, R> {
             all_rho: Vec::new(),
             all_sigma: Vec::new(),
             all_art: Vec::new(),
+            all_vol: Vec::new(),
+            all_sr2: Vec::new(),
+            pair_j: Vec::new(),
+            pair_grad: Vec::new(),
+            pair_w: Vec::new(),
+            pair_len: Vec::new(),
             tau_p: Vec::new(),
             kappa: Vec::new(),
             drho: Vec::new(),
@@ -166,10 +181,12 @@ impl<K: Kernel, R: Rheology> Wcsph<K, R> {
         }
         let radius = self.search_radius();
         if let Some(plate) = st_plate.as_mut() {
-            let (lo, hi) = x.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
-                let s = plate.s(p);
-                (lo.min(s), hi.max(s))
-            });
+            let (lo, hi) = x
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                    let s = plate.s(p);
+                    (lo.min(s), hi.max(s))
+                });
             if lo.is_finite() {
                 plate.cover(lo - 3.0 * radius, hi + 3.0 * radius);
             }
@@ -307,144 +324,163 @@ impl<K: Kernel, R: Rheology> Wcsph<K, R> {
     /// One rate evaluation at fluid state `fl`: fills kappa, drho, acc, wall_acc.
     fn rates(&mut self, fl: &Fluid) -> StageReport {
         let nf = fl.len();
+        let mass = fl.mass;
         self.all_x[..nf].copy_from_slice(&fl.x);
         self.all_v[..nf].copy_from_slice(&fl.v);
         self.all_rho[..nf].copy_from_slice(&fl.rho);
+        self.all_vol.resize(self.all_rho.len(), 0.0);
+        self.all_vol
+            .par_iter_mut()
+            .zip(self.all_rho.par_iter())
+            .for_each(|(v, r)| *v = mass / r);
         self.virtual_velocities(fl);
-
-        // Pass 1: velocity gradient (eq. 23), continuity (eq. 26), stresses.
-        let (kernel, model, p) = (&self.kernel, &self.model, &self.p);
-        let (ax, av, arho) = (&self.all_x, &self.all_v, &self.all_rho);
-        let nlist = &self.nlist;
-        let r2max = kernel.radius().powi(2);
-        let mass = fl.mass;
-        struct P1 {
-            kappa: Mat2,
-            drho: f64,
-            sigma: Mat2,
-            tau_p: Mat2,
+        if R::ELASTIC {
+            let model = &self.model;
+            self.tau_p.resize(nf, Mat2::zeros());
+            self.tau_p
+                .par_iter_mut()
+                .zip(fl.conf.par_iter())
+                .for_each(|(t, a)| *t = model.polymer_stress(a));
         }
-        let pass1: Vec<P1> = (0..nf)
-            .into_par_iter()
-            .map(|i| {
-                let (xi, vi) = (ax[i], av[i]);
-                let mut kappa = Mat2::zeros();
-                let mut drho = 0.0;
-                for &j in nlist.of(i) {
-                    let j = j as usize;
-                    if j == i {
-                        continue;
+
+        // Pass 1 (a gather): velocity gradient (eq. 23), continuity (eq. 26), stresses, and the
+        // kernel values of every pair inside the support, cached for pass 2.
+        let npairs = self.nlist.pairs();
+        self.pair_j.resize(npairs, 0);
+        self.pair_grad.resize(npairs, Vec2::zeros());
+        self.pair_w.resize(npairs, 0.0);
+        self.pair_len.resize(nf, 0);
+        self.kappa.resize(nf, Mat2::zeros());
+        self.drho.resize(nf, 0.0);
+        {
+            let (kernel, model, p, eps) = (&self.kernel, &self.model, &self.p, self.p.eps);
+            let (ax, av, avol, tau_p) = (&self.all_x, &self.all_v, &self.all_vol, &self.tau_p);
+            let nlist = &self.nlist;
+            let r2max = kernel.radius().powi(2);
+            let js = nlist.split_mut(&mut self.pair_j);
+            let gs = nlist.split_mut(&mut self.pair_grad);
+            let ws = nlist.split_mut(&mut self.pair_w);
+            (
+                js,
+                gs,
+                ws,
+                &mut self.pair_len[..],
+                &mut self.kappa[..],
+                &mut self.drho[..],
+                &mut self.all_sigma[..nf],
+                &mut self.all_art[..nf],
+            )
+                .into_par_iter()
+                .enumerate()
+                .for_each(|(i, (js, gs, ws, len, kappa_i, drho_i, sigma_i, art_i))| {
+                    let (xi, vi) = (ax[i], av[i]);
+                    let mut kappa = Mat2::zeros();
+                    let mut drho = 0.0;
+                    let mut k = 0;
+                    for &j in nlist.of(i) {
+                        let ju = j as usize;
+                        if ju == i {
+                            continue;
+                        }
+                        let xij = xi - ax[ju];
+                        let r2 = xij.norm_squared();
+                        if r2 >= r2max {
+                            continue;
+                        }
+                        let r = r2.sqrt();
+                        let grad = xij * kernel.dw_over_r(r);
+                        js[k] = j;
+                        gs[k] = grad;
+                        ws[k] = kernel.w(r);
+                        k += 1;
+                        let vij = vi - av[ju];
+                        kappa -= (vij * grad.transpose()) * avol[ju];
+                        drho += vij.dot(&grad);
                     }
-                    let xij = xi - ax[j];
-                    let r2 = xij.norm_squared();
-                    if r2 >= r2max {
-                        continue;
+                    *len = k as u32;
+                    *kappa_i = kappa;
+                    *drho_i = drho * mass;
+                    let eta = model.solvent_viscosity(&kappa);
+                    let mut sigma = Mat2::identity() * (-p.pressure(fl.rho[i]))
+                        + (kappa + kappa.transpose()) * eta;
+                    if R::ELASTIC {
+                        sigma += tau_p[i];
                     }
-                    let grad = xij * kernel.dw_over_r(r2.sqrt());
-                    let vij = vi - av[j];
-                    kappa -= (vij * grad.transpose()) * (mass / arho[j]);
-                    drho += mass * vij.dot(&grad);
-                }
-                let eta = model.solvent_viscosity(&kappa);
-                let d = kappa + kappa.transpose();
-                let tau_p = if R::ELASTIC {
-                    model.polymer_stress(&fl.conf[i])
-                } else {
-                    Mat2::zeros()
-                };
-                let sigma = Mat2::identity() * (-p.pressure(fl.rho[i])) + d * eta + tau_p;
-                P1 {
-                    kappa,
-                    drho,
-                    sigma,
-                    tau_p,
-                }
-            })
-            .collect();
-        self.kappa.clear();
-        self.drho.clear();
-        self.tau_p.clear();
-        for (i, r) in pass1.into_iter().enumerate() {
-            self.kappa.push(r.kappa);
-            self.drho.push(r.drho);
-            if R::ELASTIC {
-                self.tau_p.push(r.tau_p);
-            }
-            self.all_sigma[i] = r.sigma;
-            self.all_art[i] = artificial::fang_stress(self.p.eps, &r.sigma, fl.rho[i]);
+                    *sigma_i = sigma;
+                    *art_i = artificial::fang_stress(eps, &sigma, fl.rho[i]);
+                });
         }
         self.virtual_stresses(fl);
+        self.all_sr2.resize(self.all_sigma.len(), Mat2::zeros());
+        self.all_sr2
+            .par_iter_mut()
+            .zip(self.all_sigma.par_iter().zip(self.all_rho.par_iter()))
+            .for_each(|(o, (sg, r))| *o = sg / (r * r));
 
-        // Pass 2: momentum (eq. 27) with artificial viscosity (eqs. 30-37) and stress (eq. 38).
-        let (kernel, p) = (&self.kernel, &self.p);
-        let (ax, av, arho, asig, aart) = (
-            &self.all_x,
-            &self.all_v,
-            &self.all_rho,
-            &self.all_sigma,
-            &self.all_art,
-        );
-        let nlist = &self.nlist;
-        let h = kernel.h();
-        let inv_wdx = 1.0 / self.w_dx;
-        let use_art = p.eps > 0.0;
-        let accs: Vec<(Vec2, Vec2)> = (0..nf)
-            .into_par_iter()
-            .map(|i| {
-                let (xi, vi, rhoi) = (ax[i], av[i], arho[i]);
-                let si = asig[i] / (rhoi * rhoi);
-                let ri = aart[i];
-                let mut a = Vec2::zeros();
-                let mut aw = Vec2::zeros();
-                for &j in nlist.of(i) {
-                    let j = j as usize;
-                    if j == i {
-                        continue;
+        // Pass 2 (a gather over the cached pairs): momentum (eq. 27) with artificial viscosity
+        // (eqs. 30-37) and artificial stress (eq. 38).
+        self.acc.resize(nf, Vec2::zeros());
+        self.wall_acc.resize(nf, Vec2::zeros());
+        {
+            let p = &self.p;
+            let (ax, av, arho, asr2, aart) = (
+                &self.all_x,
+                &self.all_v,
+                &self.all_rho,
+                &self.all_sr2,
+                &self.all_art,
+            );
+            let (pj, pg, pw, plen) = (&self.pair_j, &self.pair_grad, &self.pair_w, &self.pair_len);
+            let nlist = &self.nlist;
+            let h = self.kernel.h();
+            let inv_wdx = 1.0 / self.w_dx;
+            let use_art = p.eps > 0.0;
+            (&mut self.acc[..], &mut self.wall_acc[..])
+                .into_par_iter()
+                .enumerate()
+                .for_each(|(i, (acc_i, wall_i))| {
+                    let (xi, vi, rhoi, si, ri) = (ax[i], av[i], arho[i], asr2[i], aart[i]);
+                    let start = nlist.offset(i);
+                    let end = start + plen[i] as usize;
+                    let mut a = Vec2::zeros();
+                    let mut aw = Vec2::zeros();
+                    for k in start..end {
+                        let j = pj[k] as usize;
+                        let mut t = si + asr2[j];
+                        let xij = xi - ax[j];
+                        let pi = artificial::viscosity(
+                            p.alpha,
+                            p.beta,
+                            h,
+                            p.c,
+                            0.5 * (rhoi + arho[j]),
+                            &(vi - av[j]),
+                            &xij,
+                            xij.norm_squared(),
+                        );
+                        t[(0, 0)] -= pi;
+                        t[(1, 1)] -= pi;
+                        if use_art {
+                            let f = pw[k] * inv_wdx;
+                            let f2 = f * f;
+                            t += (ri + aart[j]) * (f2 * f2); // f^n with n = 4
+                        }
+                        let contrib = t * pg[k];
+                        if j < nf {
+                            a += contrib;
+                        } else {
+                            aw += contrib;
+                        }
                     }
-                    let xij = xi - ax[j];
-                    let r2 = xij.norm_squared();
-                    if r2 >= r2max {
-                        continue;
-                    }
-                    let r = r2.sqrt();
-                    let grad = xij * kernel.dw_over_r(r);
-                    let rhoj = arho[j];
-                    let mut t = si + asig[j] / (rhoj * rhoj);
-                    let pi = artificial::viscosity(
-                        p.alpha,
-                        p.beta,
-                        h,
-                        p.c,
-                        0.5 * (rhoi + rhoj),
-                        &(vi - av[j]),
-                        &xij,
-                        r2,
-                    );
-                    t -= Mat2::identity() * pi;
-                    if use_art {
-                        let f = kernel.w(r) * inv_wdx;
-                        let f2 = f * f;
-                        t += (ri + aart[j]) * (f2 * f2);
-                    }
-                    let contrib = t * grad * mass;
-                    if j < nf {
-                        a += contrib;
-                    } else {
-                        aw += contrib;
-                    }
-                }
-                (a + aw + p.gravity, aw)
-            })
-            .collect();
-        let _ = ART_STRESS_EXPONENT;
-        self.acc.clear();
-        self.wall_acc.clear();
+                    *wall_i = aw * mass;
+                    *acc_i = (a + aw) * mass + p.gravity;
+                });
+        }
+        // Sequential, fixed-order reductions.
         let mut report = StageReport::default();
-        for (a, aw) in accs {
+        for (a, aw) in self.acc.iter().zip(&self.wall_acc) {
             report.max_acc = report.max_acc.max(a.norm());
             report.wall_on_fluid += aw * mass;
-            self.acc.push(a);
-            self.wall_acc.push(aw);
         }
         report
     }
@@ -476,7 +512,9 @@ impl<K: Kernel, R: Rheology> Wcsph<K, R> {
                 && (!R::ELASTIC || fl.conf[i].iter().all(|x| x.is_finite())))
         });
         if let Some(i) = bad {
-            return Err(format!("non-finite value (NaN or Inf) on fluid particle {i}"));
+            return Err(format!(
+                "non-finite value (NaN or Inf) on fluid particle {i}"
+            ));
         }
         for i in 0..fl.len() {
             let dev = fl.rho[i] / p.rho0 - 1.0;
@@ -539,11 +577,14 @@ impl<K: Kernel, R: Rheology> Scheme for Wcsph<K, R> {
         let mut half = std::mem::take(&mut self.half);
         half.mass = fl.mass;
         half.x.clear();
-        half.x.extend(fl.x.iter().zip(&fl.v).map(|(x, v)| x + v * hdt));
+        half.x
+            .extend(fl.x.iter().zip(&fl.v).map(|(x, v)| x + v * hdt));
         half.v.clear();
-        half.v.extend(fl.v.iter().zip(&self.acc).map(|(v, a)| v + a * hdt));
+        half.v
+            .extend(fl.v.iter().zip(&self.acc).map(|(v, a)| v + a * hdt));
         half.rho.clear();
-        half.rho.extend(fl.rho.iter().zip(&self.drho).map(|(r, d)| r + d * hdt));
+        half.rho
+            .extend(fl.rho.iter().zip(&self.drho).map(|(r, d)| r + d * hdt));
         half.conf.clear();
         if R::ELASTIC {
             let model = &self.model;
@@ -558,11 +599,14 @@ impl<K: Kernel, R: Rheology> Scheme for Wcsph<K, R> {
         let r1 = self.rates(&half);
         // Corrector, eq. (50): X^{n+1} = X^n + F^{n+1/2} dt.
         let fl = &mut st.fluid;
-        for i in 0..fl.len() {
-            fl.x[i] += half.v[i] * dt;
-            fl.v[i] += self.acc[i] * dt;
-            fl.rho[i] += self.drho[i] * dt;
-        }
+        (&mut fl.x[..], &mut fl.v[..], &mut fl.rho[..])
+            .into_par_iter()
+            .zip((&half.v[..], &self.acc[..], &self.drho[..]))
+            .for_each(|((x, v, rho), (vh, a, d))| {
+                *x += vh * dt;
+                *v += a * dt;
+                *rho += d * dt;
+            });
         if R::ELASTIC {
             let model = &self.model;
             let (hc, kp) = (&half.conf, &self.kappa);
