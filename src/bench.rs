@@ -1,14 +1,299 @@
-//! Benchmarks (issue 2's `viscosph bench`; extended by issue 6).
+//! Benchmarks: `viscosph bench <what>`. Speed is measured here, never by timed assertions in tests.
+//!
+//! * `drop` (issue 2): Fang's Newtonian and Oldroyd-B drops at 20, 40 and 80 particles per
+//!   diameter: wall time, steps, particle-steps per second, and the largest difference of W*(t*)
+//!   from the finest run.
+//! * `throughput`: particle-steps per second of the Newtonian and Oldroyd-B drop on 1 and 2
+//!   threads at about 10^3, 10^4 and 10^5 particles, and the Oldroyd-B / Newtonian cost ratio.
+//!
+//! A case is a named [`SceneConfig`]; adding a scheme or a scene to a benchmark is adding a line to
+//! its case list.
 
-use clap::Args;
+use crate::config::{SceneConfig, Value};
+use crate::diagnostics::Outputs;
+use crate::io::plot::{line_panels, Panel, Series};
+use crate::run::{run, time_scale, RunOptions};
+use crate::simulation::Simulation;
+use clap::{Args, Subcommand};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
 
 #[derive(Args, Debug)]
 pub struct BenchArgs {
-    /// Output directory.
-    #[arg(long, default_value = "results/bench")]
-    pub out: std::path::PathBuf,
+    #[command(subcommand)]
+    pub what: BenchKind,
+    /// Output directory for CSV, Markdown and PNG files.
+    #[arg(long, global = true, default_value = "results/bench")]
+    pub out: PathBuf,
+    /// Smaller sizes, for smoke tests: checks the outputs' structure, not speed.
+    #[arg(long, global = true)]
+    pub quick: bool,
 }
 
-pub fn main(_args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
-    Err("bench: not built yet".into())
+#[derive(Subcommand, Debug, Clone, Copy)]
+pub enum BenchKind {
+    /// Fang's drops at 20/40/80 particles per diameter: cost and convergence of W*(t*).
+    Drop,
+    /// Particle-steps per second on 1 and 2 threads at 10^3..10^5 particles.
+    Throughput,
+}
+
+pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
+    std::fs::create_dir_all(&args.out)?;
+    let report = match args.what {
+        BenchKind::Drop => bench_drop(&args.out, args.quick)?,
+        BenchKind::Throughput => bench_throughput(&args.out, args.quick)?,
+    };
+    println!("{report}");
+    Ok(())
+}
+
+/// A configuration from the defaults and (name, value) pairs; panics on a bad pair (benchmark
+/// cases are written in code, so a bad one is a programming error).
+pub fn case(pairs: &[(&str, Value)]) -> SceneConfig {
+    let mut c = SceneConfig::default();
+    for (k, v) in pairs {
+        c.set(k, v.clone())
+            .unwrap_or_else(|e| panic!("benchmark case: {e}"));
+    }
+    c
+}
+
+/// Fang's Newtonian drop (epsilon = 0.2) and Oldroyd-B drop (epsilon = 0.5, the defaults).
+pub fn fang_cases() -> Vec<(&'static str, SceneConfig)> {
+    vec![
+        (
+            "newtonian",
+            case(&[
+                ("rheology", Value::Text("newtonian".into())),
+                ("artificial_stress_epsilon", Value::Real(0.2)),
+            ]),
+        ),
+        ("oldroyd_b", case(&[])),
+    ]
+}
+
+/// One row of a drop benchmark.
+#[derive(Debug, Clone)]
+pub struct DropRow {
+    pub case: String,
+    pub ppd: i64,
+    pub particles: usize,
+    pub steps: u64,
+    pub wall_seconds: f64,
+    pub throughput: f64,
+    /// Largest |W*(t*) - W*_finest(t*)| over the common output times.
+    pub w_diff: f64,
+    pub error: Option<String>,
+    pub series: Vec<(f64, Outputs)>,
+}
+
+/// Largest difference of W* = width/D between two series sampled at the same times.
+pub fn max_width_difference(a: &[(f64, Outputs)], b: &[(f64, Outputs)], d: f64) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|((_, x), (_, y))| ((x.drop_width - y.drop_width) / d).abs())
+        .fold(0.0, f64::max)
+}
+
+fn bench_drop(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::Error>> {
+    let ppds: &[i64] = if quick { &[10, 14, 20] } else { &[20, 40, 80] };
+    let t_star_end = if quick { 3.0 } else { 8.0 };
+    let mut rows: Vec<DropRow> = Vec::new();
+    for (name, base) in fang_cases() {
+        let mut group = Vec::new();
+        for &ppd in ppds {
+            let mut cfg = base.clone();
+            cfg.set("particles_per_diameter", Value::Integer(ppd))?;
+            let ts = time_scale(&cfg);
+            let opts = RunOptions {
+                t_end: t_star_end * ts,
+                output_interval: 0.05 * ts,
+                ..RunOptions::for_scene(&cfg)
+            };
+            eprintln!("bench drop: {name} at {ppd} particles per diameter ...");
+            let r = run(&cfg, &opts)?;
+            group.push(DropRow {
+                case: name.into(),
+                ppd,
+                particles: r.particles,
+                steps: r.steps,
+                wall_seconds: r.wall_seconds,
+                throughput: r.throughput(),
+                w_diff: 0.0,
+                error: r.error.map(|e| e.to_string()),
+                series: r.series,
+            });
+        }
+        let finest = group.last().expect("cases").series.clone();
+        let d = base.drop_diameter;
+        for row in &mut group {
+            row.w_diff = max_width_difference(&row.series, &finest, d);
+        }
+        rows.extend(group);
+    }
+    // CSV, Markdown table, PNG.
+    let mut csv = String::from("case,particles_per_diameter,particles,steps,wall_seconds,particle_steps_per_second,max_w_star_difference_from_finest,error\n");
+    let mut md = String::from("| case | particles/D | particles | steps | wall time [s] | particle-steps/s | max \\|ΔW*\\| vs finest | breakdown |\n|---|---|---|---|---|---|---|---|\n");
+    for r in &rows {
+        let err = r.error.clone().unwrap_or_default();
+        writeln!(
+            csv,
+            "{},{},{},{},{:.3},{:.4e},{:.4e},\"{}\"",
+            r.case, r.ppd, r.particles, r.steps, r.wall_seconds, r.throughput, r.w_diff, err
+        )?;
+        writeln!(
+            md,
+            "| {} | {} | {} | {} | {:.2} | {:.3e} | {:.4} | {} |",
+            r.case,
+            r.ppd,
+            r.particles,
+            r.steps,
+            r.wall_seconds,
+            r.throughput,
+            r.w_diff,
+            if err.is_empty() { "none" } else { &err }
+        )?;
+    }
+    std::fs::write(out.join("drop.csv"), &csv)?;
+    std::fs::write(out.join("drop.md"), &md)?;
+    let cfg = SceneConfig::default();
+    let ts = time_scale(&cfg);
+    let d = cfg.drop_diameter;
+    let mut panels = Vec::new();
+    for (name, _) in fang_cases() {
+        panels.push(Panel {
+            title: format!("{name}: W*(t*) at each resolution"),
+            x_label: "t* = t V / D".into(),
+            y_label: "W*".into(),
+            series: rows
+                .iter()
+                .filter(|r| r.case == name)
+                .map(|r| Series {
+                    label: format!("{} particles/D", r.ppd),
+                    points: r
+                        .series
+                        .iter()
+                        .map(|(t, o)| (t / ts, o.drop_width / d))
+                        .collect(),
+                })
+                .collect(),
+            log: (false, false),
+        });
+    }
+    panels.push(Panel {
+        title: "cost against difference from the finest run".into(),
+        x_label: "wall time [s]".into(),
+        y_label: "max |W* - W*_finest|".into(),
+        series: fang_cases()
+            .iter()
+            .map(|(name, _)| Series {
+                label: name.to_string(),
+                points: rows
+                    .iter()
+                    .filter(|r| r.case == *name && r.w_diff > 0.0)
+                    .map(|r| (r.wall_seconds, r.w_diff))
+                    .collect(),
+            })
+            .collect(),
+        log: (true, true),
+    });
+    line_panels(&out.join("drop.png"), &panels, 3, (1800, 550))?;
+    Ok(md)
+}
+
+/// Particles per diameter giving about `n` particles in the disc (pi/4 ppd^2 = n).
+pub fn ppd_for(n: f64) -> i64 {
+    (4.0 * n / std::f64::consts::PI).sqrt().round() as i64
+}
+
+/// Measure particle-steps per second of `cfg` over `steps` steps on `threads` threads, starting
+/// just before impact (the drop is set down one spacing above the plate so walls take part).
+pub fn measure_throughput(
+    cfg: &SceneConfig,
+    steps: u64,
+    threads: usize,
+) -> Result<(f64, usize), Box<dyn std::error::Error>> {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()?;
+    let r: Result<(f64, usize), crate::simulation::SimError> = pool.install(|| {
+        let mut sim = Simulation::new(cfg.clone())?;
+        // One tiny step to learn the stable step, then time `steps` steps.
+        sim.advance_to(1e-12)?;
+        let dt = sim.state().last_dt;
+        let s0 = sim.state().step;
+        let start = std::time::Instant::now();
+        sim.advance_to(sim.time() + dt * steps as f64 * 0.999)?;
+        let secs = start.elapsed().as_secs_f64();
+        let done = sim.state().step - s0;
+        let n = sim.state().fluid.len();
+        Ok((n as f64 * done as f64 / secs, n))
+    });
+    Ok(r?)
+}
+
+fn bench_throughput(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::Error>> {
+    let sizes: &[f64] = if quick {
+        &[300.0, 1000.0]
+    } else {
+        &[1e3, 1e4, 1e5]
+    };
+    let mut md = String::from(
+        "| case | particles | threads | particle-steps/s | per core |\n|---|---|---|---|---|\n",
+    );
+    let mut csv = String::from("case,particles,threads,particle_steps_per_second\n");
+    let mut by: Vec<(String, usize, usize, f64)> = Vec::new();
+    for (name, base) in fang_cases() {
+        for &n in sizes {
+            let mut cfg = base.clone();
+            let ppd = ppd_for(n);
+            cfg.set("particles_per_diameter", Value::Integer(ppd))?;
+            // Start one spacing above the plate, moving down: walls are in play from the first step.
+            let h = 0.5 * cfg.drop_diameter + 1.5 * cfg.dx();
+            cfg.set("drop_height", Value::Real(h))?;
+            let steps = ((2e6 / n) as u64).clamp(10, 400) / if quick { 4 } else { 1 };
+            for threads in [1usize, 2] {
+                eprintln!("bench throughput: {name}, {n:.0} particles, {threads} thread(s) ...");
+                let (tp, np) = measure_throughput(&cfg, steps.max(4), threads)?;
+                by.push((name.to_string(), np, threads, tp));
+                writeln!(csv, "{name},{np},{threads},{tp:.4e}")?;
+                writeln!(
+                    md,
+                    "| {name} | {np} | {threads} | {tp:.3e} | {:.3e} |",
+                    tp / threads as f64
+                )?;
+            }
+        }
+    }
+    writeln!(
+        md,
+        "\n| particles | threads | cost ratio Oldroyd-B / Newtonian |\n|---|---|---|"
+    )?;
+    for (name, np, th, tp) in &by {
+        if name == "newtonian" {
+            if let Some((_, _, _, tpo)) = by.iter().find(|(n2, np2, th2, _)| {
+                n2 == "oldroyd_b" && *th2 == *th && (*np2 as f64 / *np as f64 - 1.0).abs() < 0.05
+            }) {
+                writeln!(md, "| {np} | {th} | {:.2} |", tp / tpo)?;
+            }
+        }
+    }
+    std::fs::write(out.join("throughput.csv"), &csv)?;
+    std::fs::write(out.join("throughput.md"), &md)?;
+    Ok(md)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ppd_for_hits_the_particle_count() {
+        for n in [1e3, 1e4, 1e5] {
+            let ppd = ppd_for(n) as f64;
+            let got = std::f64::consts::FRAC_PI_4 * ppd * ppd;
+            assert!((got / n - 1.0).abs() < 0.02, "{n} -> {got}");
+        }
+    }
 }

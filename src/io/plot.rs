@@ -38,6 +38,19 @@ fn bounds(points: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
     }
 }
 
+/// A short tick label: plain for moderate magnitudes, scientific otherwise.
+fn tick(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 {
+        "0".into()
+    } else if (1e-2..1e4).contains(&a) {
+        let s = format!("{v:.3}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        format!("{v:.1e}")
+    }
+}
+
 /// Panels side by side (in a grid of `cols` columns) in one PNG.
 pub fn line_panels(path: &Path, panels: &[Panel], cols: usize, size: (u32, u32)) -> PlotResult {
     let root = BitMapBackend::new(path, size).into_drawing_area();
@@ -79,6 +92,8 @@ fn draw_panel(
             let mut chart = $chart;
             chart
                 .configure_mesh()
+                .x_label_formatter(&|v| tick(*v))
+                .y_label_formatter(&|v| tick(*v))
                 .x_desc(panel.x_label.as_str())
                 .y_desc(panel.y_label.as_str())
                 .draw()?;

@@ -1,0 +1,115 @@
+//! The `viscosph` command line: scene files, errors that name the culprit, and the files a run writes.
+
+use std::process::Command;
+
+fn viscosph() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_viscosph"))
+}
+
+#[test]
+fn unknown_key_and_bad_value_are_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("bad.toml");
+    std::fs::write(&scene, "drop_diametr = 0.02\n").unwrap();
+    let out = viscosph()
+        .args(["run", scene.to_str().unwrap(), "--out"])
+        .arg(dir.path().join("o"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("drop_diametr"), "{err}");
+
+    std::fs::write(&scene, "plate_inclination = 95.0\n").unwrap();
+    let out = viscosph()
+        .args(["run", scene.to_str().unwrap(), "--out"])
+        .arg(dir.path().join("o"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("plate_inclination") && err.contains("95") && err.contains("[0, 90)"),
+        "{err}"
+    );
+}
+
+#[test]
+fn default_scene_round_trips() {
+    let out = viscosph().arg("default-scene").output().unwrap();
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    for p in viscosph::config::PARAMS {
+        assert!(
+            text.contains(&format!("{} = ", p.name)),
+            "missing {}",
+            p.name
+        );
+    }
+    let cfg = viscosph::SceneConfig::from_toml_str(&text).unwrap();
+    assert_eq!(cfg, viscosph::SceneConfig::default());
+}
+
+#[test]
+fn run_writes_timeseries_snapshots_and_plots() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("s.toml");
+    // Missing keys take their defaults: only the resolution and the drop's start are set.
+    std::fs::write(&scene, "particles_per_diameter = 12\ndrop_height = 0.013\n").unwrap();
+    let out_dir = dir.path().join("out");
+    let out = viscosph()
+        .args([
+            "run",
+            scene.to_str().unwrap(),
+            "--t-end",
+            "0.02",
+            "--output-interval",
+            "0.002",
+            "--out",
+        ])
+        .arg(&out_dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+
+    let (header, rows) =
+        viscosph::io::csv::read_timeseries(&out_dir.join("timeseries.csv")).unwrap();
+    let mut want = vec!["time".to_string()];
+    want.extend(viscosph::OUTPUTS.iter().map(|o| o.name.to_string()));
+    assert_eq!(header, want);
+    assert_eq!(rows.len(), 11);
+    assert!((rows[10][0] - 0.02).abs() < 1e-12);
+    let col = |name: &str| header.iter().position(|h| h == name).unwrap();
+    // The drop starts 3 mm above the plate at 1 m/s: it has hit and spread by t = 20 ms.
+    assert_eq!(rows[0][col("wall_force_normal")], 0.0);
+    assert!(rows[10][col("wall_force_normal")] > 0.0);
+    assert!(rows[10][col("drop_width")] > rows[0][col("drop_width")]);
+    let n = rows[0][col("particle_count")] as usize;
+
+    for png in ["width_height.png", "particles.png"] {
+        let bytes = std::fs::read(out_dir.join(png)).unwrap();
+        assert_eq!(&bytes[1..4], b"PNG", "{png}");
+        assert!(bytes.len() > 10_000, "{png} is suspiciously small");
+    }
+    let vtk = std::fs::read_to_string(out_dir.join("particles_0000.vtk")).unwrap();
+    assert!(
+        vtk.contains(&format!("POINTS {n} double")),
+        "VTK holds every particle"
+    );
+    assert!(vtk.contains("SCALARS trace_A double 1"));
+    let snaps = std::fs::read_dir(&out_dir)
+        .unwrap()
+        .filter(|e| {
+            e.as_ref()
+                .unwrap()
+                .file_name()
+                .to_string_lossy()
+                .starts_with("particles_")
+        })
+        .count();
+    assert!(snaps >= 5, "{snaps} snapshots");
+}
