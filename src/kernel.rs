@@ -21,6 +21,11 @@ pub trait Kernel: Copy + Send + Sync + std::fmt::Debug + 'static {
     fn radius(&self) -> f64 {
         self.support_factor() * self.h()
     }
+    /// W(r) and (1/r) dW/dr together (one evaluation of q and of the branches on the hot path).
+    #[inline]
+    fn w_and_dw_over_r(&self, r: f64) -> (f64, f64) {
+        (self.w(r), self.dw_over_r(r))
+    }
     /// (1/r) dW/dr, so that grad_i W_ij = x_ij * dw_over_r (Fang 2006 eq. 21). Finite at r = 0.
     #[inline]
     fn dw_over_r(&self, r: f64) -> f64 {
@@ -93,6 +98,22 @@ impl Kernel for CubicSpline {
             c * (2.0 - q)
         } else {
             0.0
+        }
+    }
+    #[inline]
+    fn w_and_dw_over_r(&self, r: f64) -> (f64, f64) {
+        let q = r * self.inv_h;
+        if q < 1.0 {
+            (
+                self.w0 * (2.0 / 3.0 - q * q + 0.5 * q * q * q),
+                self.w0 * self.inv_h * self.inv_h * (-2.0 + 1.5 * q),
+            )
+        } else if q < 2.0 {
+            let t = 2.0 - q;
+            let w = self.w0 * t * t * t / 6.0;
+            (w, -0.5 * self.w0 * self.inv_h * t * t / r)
+        } else {
+            (0.0, 0.0)
         }
     }
     #[inline]
@@ -221,8 +242,12 @@ mod tests {
     #[test]
     fn dw_over_r_matches() {
         let k = CubicSpline::new(1.0);
-        for r in [0.1, 0.5, 0.99, 1.0, 1.5, 1.99] {
-            assert!((k.dw_over_r(r) - k.dw(r) / r).abs() < 1e-12);
+        for r in [0.1, 0.5, 0.99, 1.0, 1.5, 1.99, 2.5] {
+            if r < 2.0 {
+                assert!((k.dw_over_r(r) - k.dw(r) / r).abs() < 1e-12);
+            }
+            let (w, g) = k.w_and_dw_over_r(r);
+            assert_eq!((w, g), (k.w(r), k.dw_over_r(r)));
         }
     }
 

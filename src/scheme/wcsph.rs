@@ -213,6 +213,7 @@ impl<K: Kernel, R: Rheology> Wcsph<K, R> {
         self.all_v.resize(n, Vec2::zeros());
         self.all_rho.resize(n, self.p.rho0);
         self.all_rho[nf..].fill(self.p.rho0);
+        self.all_vol.clear();
         self.all_sigma.resize(n, Mat2::zeros());
         self.all_art.resize(n, Mat2::zeros());
     }
@@ -328,11 +329,11 @@ impl<K: Kernel, R: Rheology> Wcsph<K, R> {
         self.all_x[..nf].copy_from_slice(&fl.x);
         self.all_v[..nf].copy_from_slice(&fl.v);
         self.all_rho[..nf].copy_from_slice(&fl.rho);
-        self.all_vol.resize(self.all_rho.len(), 0.0);
-        self.all_vol
-            .par_iter_mut()
-            .zip(self.all_rho.par_iter())
-            .for_each(|(v, r)| *v = mass / r);
+        // Virtual particles keep rho0, so only fluid volumes change.
+        self.all_vol.resize(self.all_rho.len(), mass / self.p.rho0);
+        for (v, r) in self.all_vol[..nf].iter_mut().zip(&fl.rho) {
+            *v = mass / r;
+        }
         self.virtual_velocities(fl);
         if R::ELASTIC {
             let model = &self.model;
@@ -387,11 +388,11 @@ impl<K: Kernel, R: Rheology> Wcsph<K, R> {
                         if r2 >= r2max {
                             continue;
                         }
-                        let r = r2.sqrt();
-                        let grad = xij * kernel.dw_over_r(r);
+                        let (w, dw_r) = kernel.w_and_dw_over_r(r2.sqrt());
+                        let grad = xij * dw_r;
                         js[k] = j;
                         gs[k] = grad;
-                        ws[k] = kernel.w(r);
+                        ws[k] = w;
                         k += 1;
                         let vij = vi - av[ju];
                         kappa -= (vij * grad.transpose()) * avol[ju];
