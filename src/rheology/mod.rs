@@ -3,18 +3,45 @@
 //!
 //! The polymer stress is tau_p = (eta_p / lambda) f_S(A) (King & Lind eq. 9) and the conformation
 //! tensor obeys the upper-convected equation dA/dt = kappa A + A kappa^T - f_R(A) / lambda
-//! (eqs. 10-11), with kappa_ab = d v_a / d x_b (Fang 2006 eq. 23). A scheme only calls this trait,
-//! so adding a model is adding a file: the scheme never changes.
+//! (eqs. 10-11), with kappa_ab = d v_a / d x_b (Fang 2006 eq. 23). A scheme only calls this trait
+//! and [`advance`], so adding a model is adding a file: the scheme never changes.
 //!
 //! Fang 2006 evolves the elastic stress S directly (eq. 28); for Oldroyd-B, S = (eta_p/lambda)(A - I)
 //! turns eq. (28) into exactly the conformation equation above, so one formulation serves both
 //! papers.
+//!
+//! | model | file | f_S, f_R (King & Lind Table I) |
+//! |---|---|---|
+//! | Newtonian | `newtonian.rs` | none (inelastic) |
+//! | Oldroyd-B, UCM (beta = 0) | `oldroyd_b.rs` | A - I |
+//! | FENE-P | `fene_p.rs` | A / (1 - tr A / L^2) - I |
+//! | FENE-CR | `fene_cr.rs` | (A - I) / (1 - tr A / L^2) |
+//! | linear PTT | `ptt_linear.rs` | A - I; [1 + eps tr(A - I)](A - I) |
+//! | exponential PTT | `ptt_exponential.rs` | A - I; exp[eps tr(A - I)](A - I) |
+//! | Giesekus | `giesekus.rs` | A - I; alpha A^2 + (1 - 2 alpha) A - (1 - alpha) I |
+//! | Cross | `cross.rs` | none; shear-thinning viscosity (Ren 2015 eqs. 4-7) |
+//!
+//! Conformation integration: [`advance`] with [`ConformationMethod::Direct`] (explicit update of
+//! A) or [`ConformationMethod::Log`] (log-conformation, [`logconf`]).
 
+mod cross;
+mod fene_cr;
+mod fene_p;
+mod giesekus;
+pub mod logconf;
 mod newtonian;
 mod oldroyd_b;
+mod ptt_exponential;
+mod ptt_linear;
 
+pub use cross::{shear_rate, Cross};
+pub use fene_cr::FeneCr;
+pub use fene_p::FeneP;
+pub use giesekus::Giesekus;
 pub use newtonian::Newtonian;
 pub use oldroyd_b::OldroydB;
+pub use ptt_exponential::PttExponential;
+pub use ptt_linear::PttLinear;
 
 use crate::config::{ConformationMethod, RheologyKind, SceneConfig};
 use crate::Mat2;
@@ -39,6 +66,28 @@ pub trait Rheology: Send + Sync + Clone + std::fmt::Debug + 'static {
     /// Relaxation function f_R(A) (King & Lind Table I).
     fn relax(&self, a: &Mat2) -> Mat2;
 
+    /// The relaxation sub-problem dA/dt = -f_R(A)/lambda (King & Lind eq. 29b) advanced by `dt`
+    /// from `a`, as the log-conformation integration needs it: quasi-analytically (eq. 32) with
+    /// the coefficients alpha_R, beta_R frozen at `a_coef` for models with
+    /// f_R = alpha_R (beta_R A - I), exactly for Giesekus. Must map SPD to SPD; the FENE models
+    /// also keep tr(A) < L^2 ([`logconf::fene_relaxation`]).
+    fn relaxation_step(&self, a: &Mat2, a_coef: &Mat2, dt: f64) -> Mat2;
+
+    /// Conformation of the fluid at rest, where f_R vanishes: I for every model except the
+    /// (unnormalised, King & Lind Table I) FENE-P, whose rest state is L^2/(L^2 + 2) I.
+    fn rest_conformation(&self) -> Mat2 {
+        Mat2::identity()
+    }
+
+    /// Polymer viscosity eta_p = (1 - beta) eta0 [Pa s] (0 for inelastic models).
+    fn polymer_viscosity(&self) -> f64 {
+        if Self::ELASTIC {
+            self.modulus() * self.relaxation_time()
+        } else {
+            0.0
+        }
+    }
+
     /// Polymer stress tau_p = (eta_p / lambda) f_S(A) (King & Lind eq. 9).
     #[inline]
     fn polymer_stress(&self, a: &Mat2) -> Mat2 {
@@ -55,7 +104,24 @@ pub fn conformation_rate<R: Rheology>(model: &R, a: &Mat2, kappa: &Mat2) -> Mat2
 
 /// Advance the conformation tensor by `dt`: from `a_base`, with rates evaluated at `a_eval` and
 /// the velocity gradient `kappa`. A predictor-corrector (Fang 2006 eqs. 49-50) calls this with
-/// a_eval = a_base for the half step, then with a_eval = A^{n+1/2} for the full step.
+/// a_eval = a_base for the half step, then with a_eval = A^{n+1/2} for the full step:
+///
+/// ```text
+/// half = advance(method, model, &a_n, &a_n, &kappa_n, dt / 2);
+/// a_np1 = advance(method, model, &a_n, &half, &kappa_half, dt);
+/// ```
+///
+/// * `Direct`: A = a_base + dt [kappa A + A kappa^T - f_R(A)/lambda] at A = a_eval (eqs. 10-11):
+///   the predictor-corrector is then the explicit midpoint rule, second order, but nothing keeps A
+///   positive definite.
+/// * `Log`: [`logconf::advance_log`], Strang splitting of King & Lind eqs. (29)-(33): relaxation
+///   dt/2, convection of Psi = log A over dt with the rate at a_eval, relaxation dt/2. Second order
+///   in the same predictor-corrector, SPD by construction for any step, and for FENE-P/FENE-CR
+///   tr(A) < L^2 after every step.
+///
+/// A single-stage scheme (King & Lind's ISPH integrates the stress once per step) calls
+/// `advance(method, model, &a_n, &a_n, &kappa_n, dt)`: first order in time, as in the paper.
+/// The ALE term u_ps . grad(Psi) of a shifting scheme is not included (see [`logconf`]).
 #[inline]
 pub fn advance<R: Rheology>(
     method: ConformationMethod,
@@ -66,7 +132,7 @@ pub fn advance<R: Rheology>(
     dt: f64,
 ) -> Mat2 {
     match method {
-        ConformationMethod::Direct | ConformationMethod::Log => {
+        ConformationMethod::Direct => {
             let mut a = a_base + conformation_rate(model, a_eval, kappa) * dt;
             // Keep exact symmetry against round-off.
             let off = 0.5 * (a[(0, 1)] + a[(1, 0)]);
@@ -74,27 +140,47 @@ pub fn advance<R: Rheology>(
             a[(1, 0)] = off;
             a
         }
+        ConformationMethod::Log => logconf::advance_log(model, a_base, a_eval, kappa, dt),
     }
 }
 
-/// Whether a rheology can be built yet.
+/// Whether a rheology can be built. Every model of the seeds is; the match is exhaustive so a
+/// new [`RheologyKind`] has to be considered here.
 pub fn is_implemented(kind: RheologyKind) -> bool {
-    matches!(
-        kind,
-        RheologyKind::Newtonian | RheologyKind::OldroydB | RheologyKind::Ucm
-    )
+    match kind {
+        RheologyKind::Newtonian
+        | RheologyKind::OldroydB
+        | RheologyKind::Ucm
+        | RheologyKind::FeneP
+        | RheologyKind::FeneCr
+        | RheologyKind::PttLinear
+        | RheologyKind::PttExponential
+        | RheologyKind::Giesekus
+        | RheologyKind::Cross => true,
+    }
 }
 
 /// Every model, resolved once from the configuration. Schemes are instantiated per variant
-/// through [`dispatch_rheology!`], so hot loops see a concrete type.
+/// through [`dispatch_rheology!`], so hot loops see a concrete type. UCM has no variant of its
+/// own: it is Oldroyd-B with beta = 0 (King & Lind section II), same f_S and f_R.
 #[derive(Debug, Clone)]
 pub enum AnyRheology {
     Newtonian(Newtonian),
     OldroydB(OldroydB),
+    FeneP(FeneP),
+    FeneCr(FeneCr),
+    PttLinear(PttLinear),
+    PttExponential(PttExponential),
+    Giesekus(Giesekus),
+    Cross(Cross),
 }
 
 impl AnyRheology {
-    /// Build the configured model. UCM is Oldroyd-B with no solvent (beta = 0).
+    /// Build the configured model from `viscosity` (eta0, total zero-shear), `viscosity_ratio`
+    /// (beta = eta_s/eta0), `relaxation_time` (lambda) and the model's own parameter. UCM is
+    /// Oldroyd-B with beta = 0 whatever `viscosity_ratio` says; Newtonian and Cross ignore
+    /// beta and lambda (the whole viscosity is the solvent's). Parameter ranges were checked by
+    /// the parameter table (`config::PARAMS`).
     pub fn from_config(cfg: &SceneConfig) -> Result<Self, crate::config::ConfigError> {
         let eta0 = cfg.viscosity;
         let beta = cfg.viscosity_ratio;
@@ -103,11 +189,28 @@ impl AnyRheology {
             RheologyKind::Newtonian => AnyRheology::Newtonian(Newtonian::new(eta0)),
             RheologyKind::OldroydB => AnyRheology::OldroydB(OldroydB::new(eta0, beta, lambda)),
             RheologyKind::Ucm => AnyRheology::OldroydB(OldroydB::new(eta0, 0.0, lambda)),
-            other => {
-                return Err(crate::config::ConfigError::Inconsistent(format!(
-                    "rheology '{other}' is not implemented yet"
-                )))
+            RheologyKind::FeneP => AnyRheology::FeneP(FeneP::new(eta0, beta, lambda, cfg.fene_L2)),
+            RheologyKind::FeneCr => {
+                AnyRheology::FeneCr(FeneCr::new(eta0, beta, lambda, cfg.fene_L2))
             }
+            RheologyKind::PttLinear => {
+                AnyRheology::PttLinear(PttLinear::new(eta0, beta, lambda, cfg.ptt_epsilon))
+            }
+            RheologyKind::PttExponential => AnyRheology::PttExponential(PttExponential::new(
+                eta0,
+                beta,
+                lambda,
+                cfg.ptt_epsilon,
+            )),
+            RheologyKind::Giesekus => {
+                AnyRheology::Giesekus(Giesekus::new(eta0, beta, lambda, cfg.giesekus_alpha))
+            }
+            RheologyKind::Cross => AnyRheology::Cross(Cross::new(
+                eta0,
+                cfg.cross_viscosity_inf,
+                cfg.cross_K,
+                cfg.cross_m,
+            )),
         })
     }
 }
@@ -119,6 +222,12 @@ macro_rules! dispatch_rheology {
         match $any {
             $crate::rheology::AnyRheology::Newtonian($m) => $body,
             $crate::rheology::AnyRheology::OldroydB($m) => $body,
+            $crate::rheology::AnyRheology::FeneP($m) => $body,
+            $crate::rheology::AnyRheology::FeneCr($m) => $body,
+            $crate::rheology::AnyRheology::PttLinear($m) => $body,
+            $crate::rheology::AnyRheology::PttExponential($m) => $body,
+            $crate::rheology::AnyRheology::Giesekus($m) => $body,
+            $crate::rheology::AnyRheology::Cross($m) => $body,
         }
     };
 }

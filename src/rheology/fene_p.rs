@@ -1,0 +1,75 @@
+//! FENE-P (King & Lind 2021 Table I): f_S = f_R = A / (1 - tr(A)/L^2) - I, with the
+//! extensibility L^2 (`fene_L2`, > 2 in 2D so that the rest state exists). tr(A) < L^2 always
+//! holds for the exact dynamics: the spring factor 1/(1 - tr(A)/L^2) diverges as the chains
+//! approach full extension.
+//!
+//! This is the unnormalised form of the table, whose rest state (f_R = 0) is
+//! A = L^2/(L^2 + 2) I, not I; see [`Rheology::rest_conformation`].
+
+use super::logconf::fene_relaxation;
+use super::Rheology;
+use crate::Mat2;
+
+#[derive(Debug, Clone)]
+pub struct FeneP {
+    /// Solvent viscosity beta eta0 [Pa s].
+    pub eta_s: f64,
+    /// Polymer viscosity (1 - beta) eta0 [Pa s].
+    pub eta_p: f64,
+    /// Relaxation time [s].
+    pub lambda: f64,
+    /// Extensibility L^2.
+    pub l2: f64,
+}
+
+impl FeneP {
+    pub fn new(eta0: f64, beta: f64, lambda: f64, l2: f64) -> Self {
+        Self {
+            eta_s: beta * eta0,
+            eta_p: (1.0 - beta) * eta0,
+            lambda,
+            l2,
+        }
+    }
+
+    /// Spring factor 1 / (1 - tr(A)/L^2).
+    #[inline]
+    pub fn spring(&self, a: &Mat2) -> f64 {
+        1.0 / (1.0 - a.trace() / self.l2)
+    }
+}
+
+impl Rheology for FeneP {
+    const ELASTIC: bool = true;
+    #[inline]
+    fn solvent_viscosity(&self, _kappa: &Mat2) -> f64 {
+        self.eta_s
+    }
+    fn max_viscosity(&self) -> f64 {
+        self.eta_s + self.eta_p
+    }
+    #[inline]
+    fn modulus(&self) -> f64 {
+        self.eta_p / self.lambda
+    }
+    fn relaxation_time(&self) -> f64 {
+        self.lambda
+    }
+    #[inline]
+    fn strain(&self, a: &Mat2) -> Mat2 {
+        a * self.spring(a) - Mat2::identity()
+    }
+    #[inline]
+    fn relax(&self, a: &Mat2) -> Mat2 {
+        a * self.spring(a) - Mat2::identity()
+    }
+    /// Eq. (32) with alpha_R = 1, beta_R = 1/(1 - tr(A)/L^2) frozen at `a_coef`, safeguarded to
+    /// stay below tr(A) = L^2 ([`super::logconf::fene_relaxation`]).
+    #[inline]
+    fn relaxation_step(&self, a: &Mat2, a_coef: &Mat2, dt: f64) -> Mat2 {
+        fene_relaxation(a, a_coef, self.l2, dt / self.lambda, |f| (1.0, f))
+    }
+    fn rest_conformation(&self) -> Mat2 {
+        Mat2::identity() * (self.l2 / (self.l2 + 2.0))
+    }
+}
