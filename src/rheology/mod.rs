@@ -3,8 +3,9 @@
 //!
 //! The polymer stress is tau_p = (eta_p / lambda) f_S(A) (King & Lind eq. 9) and the conformation
 //! tensor obeys the upper-convected equation dA/dt = kappa A + A kappa^T - f_R(A) / lambda
-//! (eqs. 10-11), with kappa_ab = d v_a / d x_b (Fang 2006 eq. 23). A scheme only calls this trait
-//! and [`advance`], so adding a model is adding a file: the scheme never changes.
+//! (eqs. 10-11), with kappa_ab = d v_a / d x_b (Fang 2006 eq. 23). A scheme only calls this trait,
+//! [`advance`] and (optionally) [`Evss`], so adding a model is adding a file: the scheme never
+//! changes.
 //!
 //! Fang 2006 evolves the elastic stress S directly (eq. 28); for Oldroyd-B, S = (eta_p/lambda)(A - I)
 //! turns eq. (28) into exactly the conformation equation above, so one formulation serves both
@@ -25,6 +26,7 @@
 //! A) or [`ConformationMethod::Log`] (log-conformation, [`logconf`]).
 
 mod cross;
+mod evss;
 mod fene_cr;
 mod fene_p;
 mod giesekus;
@@ -35,6 +37,7 @@ mod ptt_exponential;
 mod ptt_linear;
 
 pub use cross::{shear_rate, Cross};
+pub use evss::Evss;
 pub use fene_cr::FeneCr;
 pub use fene_p::FeneP;
 pub use giesekus::Giesekus;
