@@ -9,9 +9,10 @@
 //! A case is a named [`SceneConfig`]; adding a scheme or a scene to a benchmark is adding a line to
 //! its case list.
 
+use crate::config::{RheologyKind, SchemeKind, RHEOLOGIES, SCHEMES};
 use crate::config::{SceneConfig, Value};
 use crate::diagnostics::Outputs;
-use crate::io::plot::{line_panels, Panel, Series};
+use crate::io::plot::{line_panels, status_grid, Panel, Series};
 use crate::run::{run, time_scale, RunOptions};
 use crate::simulation::Simulation;
 use clap::{Args, Subcommand};
@@ -36,6 +37,8 @@ pub enum BenchKind {
     Drop,
     /// Particle-steps per second on 1 and 2 threads at 10^3..10^5 particles.
     Throughput,
+    /// Stability maps: sweeps of De, beta, inclination, impact velocity and resolution.
+    Stability,
 }
 
 pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
@@ -43,6 +46,7 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
     let report = match args.what {
         BenchKind::Drop => bench_drop(&args.out, args.quick)?,
         BenchKind::Throughput => bench_throughput(&args.out, args.quick)?,
+        BenchKind::Stability => bench_stability(&args.out, args.quick)?,
     };
     println!("{report}");
     Ok(())
@@ -281,6 +285,247 @@ fn bench_throughput(out: &Path, quick: bool) -> Result<String, Box<dyn std::erro
     }
     std::fs::write(out.join("throughput.csv"), &csv)?;
     std::fs::write(out.join("throughput.md"), &md)?;
+    Ok(md)
+}
+
+/// How one stability run ended.
+#[derive(Debug, Clone)]
+pub struct Outcome {
+    pub stable: bool,
+    /// t* of the breakdown.
+    pub t_star: Option<f64>,
+    pub cause: Option<String>,
+    pub wall_seconds: f64,
+}
+
+/// Run a drop to `t_star_end` and classify it; configuration errors count as "not run" (None).
+pub fn classify(cfg: &SceneConfig, t_star_end: f64) -> Option<Outcome> {
+    cfg.validate().ok()?;
+    let ts = time_scale(cfg);
+    let start = std::time::Instant::now();
+    let mut sim = Simulation::new(cfg.clone()).ok()?;
+    let r = sim.advance_to(t_star_end * ts);
+    let wall_seconds = start.elapsed().as_secs_f64();
+    Some(match r {
+        Ok(()) => Outcome {
+            stable: true,
+            t_star: None,
+            cause: None,
+            wall_seconds,
+        },
+        Err(e) => {
+            let (t, cause) = match &e {
+                crate::simulation::SimError::Breakdown { time, cause, .. } => {
+                    (Some(time / ts), cause.clone())
+                }
+                other => (None, other.to_string()),
+            };
+            Outcome {
+                stable: false,
+                t_star: t,
+                cause: Some(cause),
+                wall_seconds,
+            }
+        }
+    })
+}
+
+/// Schemes the solver can build now (the others are refused by validation and left out).
+pub fn built_schemes() -> Vec<SchemeKind> {
+    SCHEMES
+        .iter()
+        .filter_map(|(n, _)| SchemeKind::parse(n))
+        .filter(|s| {
+            let mut c = SceneConfig::default();
+            c.scheme = *s;
+            c.validate().is_ok()
+        })
+        .collect()
+}
+
+/// The models with a relaxation time (a Deborah number to sweep).
+pub fn elastic_rheologies() -> Vec<RheologyKind> {
+    RHEOLOGIES
+        .iter()
+        .filter_map(|(n, _)| RheologyKind::parse(n))
+        .filter(|r| !matches!(r, RheologyKind::Newtonian | RheologyKind::Cross))
+        .collect()
+}
+
+fn bench_stability(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::Error>> {
+    let t_star_end = if quick { 3.0 } else { 8.0 };
+    let ppd: i64 = if quick { 12 } else { 20 };
+    let des: Vec<f64> = if quick {
+        vec![0.1, 1.0, 100.0]
+    } else {
+        vec![0.1, 0.3, 1.0, 3.0, 10.0, 30.0, 100.0, 300.0, 1000.0]
+    };
+    let mut csv = String::from(
+        "sweep,scheme,rheology,parameter,value,stable,breakdown_t_star,cause,wall_seconds\n",
+    );
+    let mut md = String::new();
+    let base = |scheme: SchemeKind, rheo: RheologyKind| {
+        let mut c = SceneConfig::default();
+        c.scheme = scheme;
+        c.rheology = rheo;
+        c.particles_per_diameter = ppd;
+        c
+    };
+    let record = |csv: &mut String,
+                  sweep: &str,
+                  c: &SceneConfig,
+                  param: &str,
+                  value: f64,
+                  o: &Option<Outcome>| {
+        let (st, t, cause, w) = match o {
+            Some(o) => (
+                if o.stable { "stable" } else { "broken" },
+                o.t_star.map(|t| format!("{t:.3}")).unwrap_or_default(),
+                o.cause.clone().unwrap_or_default().replace('"', "'"),
+                o.wall_seconds,
+            ),
+            None => (
+                "not_run",
+                String::new(),
+                "refused by validation".into(),
+                0.0,
+            ),
+        };
+        let _ = writeln!(
+            csv,
+            "{sweep},{},{},{param},{value},{st},{t},\"{cause}\",{w:.3}",
+            c.scheme, c.rheology
+        );
+    };
+
+    // 1. Deborah number De = lambda V / D, per scheme and elastic rheology (beta = 0.1).
+    writeln!(md, "### Largest stable De (drop to t* = {t_star_end}, {ppd} particles per diameter, beta = 0.1)\n")?;
+    writeln!(
+        md,
+        "| scheme | rheology | largest stable De | first failure |\n|---|---|---|---|"
+    )?;
+    for scheme in built_schemes() {
+        let rheos = elastic_rheologies();
+        let mut cells = Vec::new();
+        for &rheo in &rheos {
+            let mut row = Vec::new();
+            let mut best: Option<f64> = None;
+            let mut first_fail = String::from("none");
+            for &de in &des {
+                let mut c = base(scheme, rheo);
+                c.relaxation_time = de * c.drop_diameter / c.impact_velocity;
+                eprintln!("bench stability: {scheme} {rheo} De = {de} ...");
+                let o = classify(&c, t_star_end);
+                record(&mut csv, "deborah", &c, "De", de, &o);
+                row.push(o.as_ref().map(|o| o.stable));
+                match &o {
+                    Some(o) if o.stable && first_fail == "none" => best = Some(de),
+                    Some(o) if !o.stable && first_fail == "none" => {
+                        first_fail = format!(
+                            "De = {de}: {} (t* = {})",
+                            o.cause.clone().unwrap_or_default(),
+                            o.t_star.map(|t| format!("{t:.2}")).unwrap_or_default()
+                        )
+                    }
+                    _ => {}
+                }
+            }
+            writeln!(
+                md,
+                "| {scheme} | {rheo} | {} | {first_fail} |",
+                best.map(|d| d.to_string()).unwrap_or("none".into())
+            )?;
+            cells.push(row);
+        }
+        status_grid(
+            &out.join(format!("stability_de_{scheme}.png")),
+            &format!("{scheme}: stable (green) / broken (red) drops against De"),
+            "De = lambda V / D",
+            &des.iter().map(|d| d.to_string()).collect::<Vec<_>>(),
+            &rheos.iter().map(|r| r.to_string()).collect::<Vec<_>>(),
+            &cells,
+        )?;
+    }
+
+    // 2. One-parameter sweeps of the Oldroyd-B drop (De = 1) per scheme.
+    type Setter = fn(&mut SceneConfig, f64);
+    let sweeps: Vec<(&str, &str, Vec<f64>, Setter)> = vec![
+        (
+            "beta",
+            "viscosity_ratio",
+            vec![0.5, 0.1, 0.05, 0.01, 0.0],
+            |c, v| c.viscosity_ratio = v,
+        ),
+        (
+            "inclination",
+            "plate_inclination [deg]",
+            vec![0.0, 15.0, 30.0, 45.0, 60.0],
+            |c, v| c.plate_inclination = v,
+        ),
+        (
+            "velocity",
+            "impact_velocity [m/s]",
+            vec![0.5, 1.0, 2.0, 3.0, 5.0],
+            |c, v| {
+                // keep De = 1 as V changes
+                c.relaxation_time = c.drop_diameter / v;
+                c.impact_velocity = v;
+            },
+        ),
+        (
+            "resolution",
+            "particles_per_diameter",
+            vec![16.0, 20.0, 30.0, 40.0, 60.0],
+            |c, v| c.particles_per_diameter = v as i64,
+        ),
+    ];
+    writeln!(
+        md,
+        "\n### One-parameter sweeps (Oldroyd-B, De = 1 unless swept)\n"
+    )?;
+    for (name, label, values, set) in sweeps {
+        let values: Vec<f64> = if quick {
+            values.into_iter().take(2).collect()
+        } else {
+            values
+        };
+        let schemes = built_schemes();
+        let mut cells = Vec::new();
+        writeln!(md, "| scheme | {label} | outcome |\n|---|---|---|")?;
+        for &scheme in &schemes {
+            let mut row = Vec::new();
+            for &v in &values {
+                let mut c = base(scheme, RheologyKind::OldroydB);
+                set(&mut c, v);
+                eprintln!("bench stability: {scheme} {name} = {v} ...");
+                let o = classify(&c, t_star_end);
+                record(&mut csv, name, &c, label, v, &o);
+                row.push(o.as_ref().map(|o| o.stable));
+                let desc = match &o {
+                    Some(o) if o.stable => "stable".to_string(),
+                    Some(o) => format!(
+                        "broken at t* = {}: {}",
+                        o.t_star.map(|t| format!("{t:.2}")).unwrap_or_default(),
+                        o.cause.clone().unwrap_or_default()
+                    ),
+                    None => "refused by validation".into(),
+                };
+                writeln!(md, "| {scheme} | {v} | {desc} |")?;
+            }
+            cells.push(row);
+        }
+        writeln!(md)?;
+        status_grid(
+            &out.join(format!("stability_{name}.png")),
+            &format!("Oldroyd-B drop: stable (green) / broken (red) against {label}"),
+            label,
+            &values.iter().map(|d| d.to_string()).collect::<Vec<_>>(),
+            &schemes.iter().map(|s| s.to_string()).collect::<Vec<_>>(),
+            &cells,
+        )?;
+    }
+    std::fs::write(out.join("stability.csv"), &csv)?;
+    std::fs::write(out.join("stability.md"), &md)?;
     Ok(md)
 }
 

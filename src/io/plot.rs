@@ -221,3 +221,70 @@ pub fn particle_snapshots(
     root.present()?;
     Ok(())
 }
+
+/// A grid of cells coloured green (true), red (false) or grey (None), with row and column labels:
+/// a stability map.
+pub fn status_grid(
+    path: &Path,
+    title: &str,
+    x_title: &str,
+    x_labels: &[String],
+    y_labels: &[String],
+    cells: &[Vec<Option<bool>>],
+) -> PlotResult {
+    let (w, h) = (
+        (220 + 90 * x_labels.len()) as u32,
+        (120 + 40 * y_labels.len()) as u32,
+    );
+    let root = BitMapBackend::new(path, (w, h)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let nx = x_labels.len() as f64;
+    let ny = y_labels.len() as f64;
+    let xl = x_labels.to_vec();
+    let yl = y_labels.to_vec();
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 20))
+        .margin(10)
+        .x_label_area_size(45)
+        .y_label_area_size(150)
+        .build_cartesian_2d(0.0..nx, 0.0..ny)?;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_labels(x_labels.len() * 2 + 1)
+        .y_labels(y_labels.len() * 2 + 1)
+        .x_label_formatter(&|v| {
+            let k = v.floor() as usize;
+            if (v - k as f64 - 0.5).abs() < 0.01 && k < xl.len() {
+                xl[k].clone()
+            } else {
+                String::new()
+            }
+        })
+        .y_label_formatter(&|v| {
+            let k = v.floor() as usize;
+            if (v - k as f64 - 0.5).abs() < 0.01 && k < yl.len() {
+                yl[k].clone()
+            } else {
+                String::new()
+            }
+        })
+        .x_desc(x_title)
+        .draw()?;
+    for (j, row) in cells.iter().enumerate() {
+        for (i, c) in row.iter().enumerate() {
+            let colour = match c {
+                Some(true) => RGBColor(60, 170, 80),
+                Some(false) => RGBColor(210, 60, 50),
+                None => RGBColor(200, 200, 200),
+            };
+            let (x, y) = (i as f64, j as f64);
+            chart.draw_series(std::iter::once(Rectangle::new(
+                [(x + 0.04, y + 0.06), (x + 0.96, y + 0.94)],
+                colour.filled(),
+            )))?;
+        }
+    }
+    root.present()?;
+    Ok(())
+}
