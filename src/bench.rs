@@ -39,6 +39,8 @@ pub enum BenchKind {
     Throughput,
     /// Stability maps: sweeps of De, beta, inclination, impact velocity and resolution.
     Stability,
+    /// Error against run time for every scheme on problems with a trustworthy reference.
+    Accuracy,
 }
 
 pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
@@ -47,6 +49,7 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
         BenchKind::Drop => bench_drop(&args.out, args.quick)?,
         BenchKind::Throughput => bench_throughput(&args.out, args.quick)?,
         BenchKind::Stability => bench_stability(&args.out, args.quick)?,
+        BenchKind::Accuracy => bench_accuracy(&args.out, args.quick)?,
     };
     println!("{report}");
     Ok(())
@@ -100,11 +103,15 @@ pub fn max_width_difference(a: &[(f64, Outputs)], b: &[(f64, Outputs)], d: f64) 
         .fold(0.0, f64::max)
 }
 
-fn bench_drop(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::Error>> {
-    let ppds: &[i64] = if quick { &[10, 14, 20] } else { &[20, 40, 80] };
-    let t_star_end = if quick { 3.0 } else { 8.0 };
+/// Run each case at each resolution to `t_star_end` and fill in the difference of W* from the
+/// finest run of its case.
+pub fn drop_convergence(
+    cases: &[(&'static str, SceneConfig)],
+    ppds: &[i64],
+    t_star_end: f64,
+) -> Result<Vec<DropRow>, Box<dyn std::error::Error>> {
     let mut rows: Vec<DropRow> = Vec::new();
-    for (name, base) in fang_cases() {
+    for (name, base) in cases {
         let mut group = Vec::new();
         for &ppd in ppds {
             let mut cfg = base.clone();
@@ -115,10 +122,13 @@ fn bench_drop(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::Err
                 output_interval: 0.05 * ts,
                 ..RunOptions::for_scene(&cfg)
             };
-            eprintln!("bench drop: {name} at {ppd} particles per diameter ...");
+            eprintln!(
+                "bench: {} {name} at {ppd} particles per diameter ...",
+                cfg.scheme
+            );
             let r = run(&cfg, &opts)?;
             group.push(DropRow {
-                case: name.into(),
+                case: name.to_string(),
                 ppd,
                 particles: r.particles,
                 steps: r.steps,
@@ -129,13 +139,33 @@ fn bench_drop(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::Err
                 series: r.series,
             });
         }
-        let finest = group.last().expect("cases").series.clone();
+        let finest = group.last().expect("resolutions").series.clone();
         let d = base.drop_diameter;
         for row in &mut group {
             row.w_diff = max_width_difference(&row.series, &finest, d);
         }
         rows.extend(group);
     }
+    Ok(rows)
+}
+
+/// Observed order of convergence from three resolutions refined by a factor of 2
+/// (Richardson): p = log2(|W_c - W_m| / |W_m - W_f|) in the max norm over the common times.
+pub fn observed_order(
+    coarse: &[(f64, Outputs)],
+    mid: &[(f64, Outputs)],
+    fine: &[(f64, Outputs)],
+    d: f64,
+) -> f64 {
+    let e1 = max_width_difference(coarse, mid, d);
+    let e2 = max_width_difference(mid, fine, d);
+    (e1 / e2).log2()
+}
+
+fn bench_drop(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::Error>> {
+    let ppds: &[i64] = if quick { &[10, 14, 20] } else { &[20, 40, 80] };
+    let t_star_end = if quick { 3.0 } else { 8.0 };
+    let rows = drop_convergence(&fang_cases(), ppds, t_star_end)?;
     // CSV, Markdown table, PNG.
     let mut csv = String::from("case,particles_per_diameter,particles,steps,wall_seconds,particle_steps_per_second,max_w_star_difference_from_finest,error\n");
     let mut md = String::from("| case | particles/D | particles | steps | wall time [s] | particle-steps/s | max \\|ΔW*\\| vs finest | breakdown |\n|---|---|---|---|---|---|---|---|\n");
@@ -285,6 +315,133 @@ fn bench_throughput(out: &Path, quick: bool) -> Result<String, Box<dyn std::erro
     }
     std::fs::write(out.join("throughput.csv"), &csv)?;
     std::fs::write(out.join("throughput.md"), &md)?;
+    Ok(md)
+}
+
+/// One point of an accuracy-against-cost curve.
+#[derive(Debug, Clone)]
+pub struct AccuracyPoint {
+    pub problem: String,
+    pub scheme: String,
+    pub resolution: String,
+    pub wall_seconds: f64,
+    pub error: f64,
+}
+
+fn bench_accuracy(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::Error>> {
+    let mut points: Vec<AccuracyPoint> = Vec::new();
+    let mut md = String::new();
+    // Fang's drops: error of W*(t*) against a Richardson extrapolation from resolutions 1:2:4.
+    let ppds: &[i64] = if quick { &[8, 16, 32] } else { &[20, 40, 80] };
+    let t_star_end = if quick { 3.0 } else { 8.0 };
+    writeln!(
+        md,
+        "### Fang drop: W*(t*) to t* = {t_star_end} against a Richardson extrapolation\n"
+    )?;
+    writeln!(md, "| scheme | case | particles/D | wall time [s] | max \\|W* - W*_extrapolated\\| | observed order |\n|---|---|---|---|---|---|")?;
+    for scheme in built_schemes() {
+        let cases: Vec<(&'static str, SceneConfig)> = fang_cases()
+            .into_iter()
+            .map(|(n, mut c)| {
+                c.scheme = scheme;
+                (n, c)
+            })
+            .collect();
+        let rows = drop_convergence(&cases, ppds, t_star_end)?;
+        let d = SceneConfig::default().drop_diameter;
+        for (name, _) in &cases {
+            let g: Vec<&DropRow> = rows.iter().filter(|r| r.case == *name).collect();
+            if g.iter().any(|r| r.error.is_some()) {
+                writeln!(
+                    md,
+                    "| {scheme} | {name} | - | - | broke down: {} | - |",
+                    g.iter().find_map(|r| r.error.clone()).unwrap_or_default()
+                )?;
+                continue;
+            }
+            let p = observed_order(&g[0].series, &g[1].series, &g[2].series, d);
+            // Extrapolated W* = W_f + (W_f - W_m) / (2^p - 1), with p at least 1 so a noisy
+            // order estimate does not blow the correction up.
+            let pe = p.max(1.0);
+            let ext: Vec<(f64, Outputs)> = g[2]
+                .series
+                .iter()
+                .zip(&g[1].series)
+                .map(|((t, f), (_, m))| {
+                    let mut o = *f;
+                    o.drop_width =
+                        f.drop_width + (f.drop_width - m.drop_width) / (2f64.powf(pe) - 1.0);
+                    (*t, o)
+                })
+                .collect();
+            for r in &g {
+                let e = max_width_difference(&r.series, &ext, d);
+                writeln!(
+                    md,
+                    "| {scheme} | {name} | {} | {:.2} | {:.4} | {:.2} |",
+                    r.ppd, r.wall_seconds, e, p
+                )?;
+                points.push(AccuracyPoint {
+                    problem: format!("drop_{name}"),
+                    scheme: scheme.to_string(),
+                    resolution: format!("{} particles/D", r.ppd),
+                    wall_seconds: r.wall_seconds,
+                    error: e,
+                });
+            }
+        }
+    }
+    let mut csv = String::from("problem,scheme,resolution,wall_seconds,error\n");
+    for p in &points {
+        writeln!(
+            csv,
+            "{},{},{},{:.4},{:.6e}",
+            p.problem, p.scheme, p.resolution, p.wall_seconds, p.error
+        )?;
+    }
+    std::fs::write(out.join("accuracy.csv"), &csv)?;
+    std::fs::write(out.join("accuracy.md"), &md)?;
+    let mut problems: Vec<String> = points.iter().map(|p| p.problem.clone()).collect();
+    problems.dedup();
+    let panels: Vec<Panel> = problems
+        .iter()
+        .map(|prob| {
+            let mut schemes: Vec<String> = points
+                .iter()
+                .filter(|p| &p.problem == prob)
+                .map(|p| p.scheme.clone())
+                .collect();
+            schemes.dedup();
+            Panel {
+                title: format!("{prob}: error against cost"),
+                x_label: "wall time [s]".into(),
+                y_label: "error".into(),
+                series: schemes
+                    .iter()
+                    .map(|s| Series {
+                        label: s.clone(),
+                        points: points
+                            .iter()
+                            .filter(|p| &p.problem == prob && &p.scheme == s && p.error > 0.0)
+                            .map(|p| (p.wall_seconds, p.error))
+                            .collect(),
+                    })
+                    .collect(),
+                log: (true, true),
+            }
+        })
+        .collect();
+    if !panels.is_empty() {
+        line_panels(
+            &out.join("accuracy.png"),
+            &panels,
+            panels.len().min(3),
+            (
+                600 * panels.len().min(3) as u32,
+                500 * panels.len().div_ceil(3) as u32,
+            ),
+        )?;
+    }
     Ok(md)
 }
 
