@@ -151,7 +151,7 @@ pub const PARAMS: &[ParamSpec] = &[
     ParamSpec { name: "plate_inclination", value_reference: 4, kind: Kind::Real { default: 0.0, min: 0.0, max: 90.0, min_open: false, max_open: true }, unit: "deg", description: "Angle of the plate to the horizontal; the plate runs downhill towards +x" },
     ParamSpec { name: "impact_velocity", value_reference: 5, kind: real(1.0, 0.0, 100.0), unit: "m/s", description: "Initial speed of the drop, vertically down" },
     ParamSpec { name: "drop_diameter", value_reference: 6, kind: real_pos(0.02, 10.0), unit: "m", description: "Diameter of the initial (circular) drop" },
-    ParamSpec { name: "drop_height", value_reference: 7, kind: real_pos(0.04, 100.0), unit: "m", description: "Height of the drop centre above the impact point, measured vertically" },
+    ParamSpec { name: "initial_drop_height", value_reference: 7, kind: real_pos(0.04, 100.0), unit: "m", description: "Height of the drop centre above the impact point at t = 0, measured vertically (scene files may also call it drop_height)" },
     ParamSpec { name: "density", value_reference: 8, kind: real_pos(1000.0, 1.0e5), unit: "kg/m3", description: "Reference density rho0" },
     ParamSpec { name: "gravity", value_reference: 9, kind: real(9.81, 0.0, 1000.0), unit: "m/s2", description: "Gravitational acceleration, vertically down" },
     ParamSpec { name: "viscosity", value_reference: 10, kind: real_pos(4.0, 1.0e6), unit: "Pa.s", description: "Total zero-shear viscosity eta0 (solvent + polymer)" },
@@ -180,7 +180,14 @@ pub const PARAMS: &[ParamSpec] = &[
 ];
 
 /// Index of a parameter in [`PARAMS`] by name.
+/// `drop_height` is accepted as the older name of `initial_drop_height`: the FMU needs unique
+/// variable names and `drop_height` is an output.
 pub fn param_spec(name: &str) -> Option<&'static ParamSpec> {
+    let name = if name == "drop_height" {
+        "initial_drop_height"
+    } else {
+        name
+    };
     PARAMS.iter().find(|p| p.name == name)
 }
 
@@ -265,6 +272,7 @@ pub struct SceneConfig {
     pub plate_inclination: f64,
     pub impact_velocity: f64,
     pub drop_diameter: f64,
+    /// FMU name `initial_drop_height` (`drop_height` is an output).
     pub drop_height: f64,
     pub density: f64,
     pub gravity: f64,
@@ -470,7 +478,7 @@ impl SceneConfig {
             "plate_inclination" => &mut self.plate_inclination,
             "impact_velocity" => &mut self.impact_velocity,
             "drop_diameter" => &mut self.drop_diameter,
-            "drop_height" => &mut self.drop_height,
+            "initial_drop_height" | "drop_height" => &mut self.drop_height,
             "density" => &mut self.density,
             "gravity" => &mut self.gravity,
             "viscosity" => &mut self.viscosity,
@@ -535,12 +543,26 @@ impl SceneConfig {
                 self.rheology
             ));
         }
+        if self.rheology == RheologyKind::PttLinear && self.ptt_epsilon > 0.5 {
+            return inconsistent(format!(
+                "ptt_epsilon = {} is outside [0, 0.5] for the linear PTT model: its relaxation factor \
+                 1 + epsilon tr(A - I) would turn negative for a compressed, still positive-definite A",
+                self.ptt_epsilon
+            ));
+        }
+        if self.rheology == RheologyKind::Cross && self.cross_viscosity_inf > self.viscosity {
+            return inconsistent(format!(
+                "cross_viscosity_inf = {} Pa.s exceeds the zero-shear viscosity = {} Pa.s: the Cross \
+                 model (Ren 2015 eq. 5) is shear-thinning, so it must be at most viscosity",
+                self.cross_viscosity_inf, self.viscosity
+            ));
+        }
         if self.scene == Scene::Drop {
             let theta = self.plate_inclination.to_radians();
             let normal_gap = self.drop_height * theta.cos() - 0.5 * self.drop_diameter;
             if normal_gap < self.dx() {
                 return inconsistent(format!(
-                    "drop_height = {} m puts the drop (diameter {} m) within one particle spacing of \
+                    "initial_drop_height = {} m puts the drop (diameter {} m) within one particle spacing of \
                      the plate inclined at {} deg: its centre must be at least {:.6} m above the impact point",
                     self.drop_height,
                     self.drop_diameter,
@@ -706,6 +728,21 @@ mod tests {
         c.drop_height = 0.01;
         let e = c.validate().unwrap_err().to_string();
         assert!(e.contains("drop_height"), "{e}");
+    }
+
+    #[test]
+    fn model_specific_ranges_are_refused_with_the_parameter_named() {
+        let mut c = SceneConfig::default();
+        c.rheology = RheologyKind::PttLinear;
+        c.ptt_epsilon = 0.6;
+        let e = c.validate().unwrap_err().to_string();
+        assert!(e.contains("ptt_epsilon") && e.contains("0.6"), "{e}");
+        c.rheology = RheologyKind::PttExponential;
+        c.validate().unwrap();
+        c.rheology = RheologyKind::Cross;
+        c.cross_viscosity_inf = 5.0;
+        let e = c.validate().unwrap_err().to_string();
+        assert!(e.contains("cross_viscosity_inf") && e.contains("viscosity"), "{e}");
     }
 
     #[test]
