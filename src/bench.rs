@@ -41,6 +41,9 @@ pub enum BenchKind {
     Stability,
     /// Error against run time for every scheme on problems with a trustworthy reference.
     Accuracy,
+    /// Fang's drop (De = 1, beta = 0.1) with every rheology: W*(t*) and H*(t*) overlaid, like
+    /// King & Lind's Fig. 16.
+    Rheologies,
 }
 
 pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
@@ -50,6 +53,7 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
         BenchKind::Throughput => bench_throughput(&args.out, args.quick)?,
         BenchKind::Stability => bench_stability(&args.out, args.quick)?,
         BenchKind::Accuracy => bench_accuracy(&args.out, args.quick)?,
+        BenchKind::Rheologies => bench_rheologies(&args.out, args.quick)?,
     };
     println!("{report}");
     Ok(())
@@ -443,6 +447,89 @@ fn bench_accuracy(out: &Path, quick: bool) -> Result<String, Box<dyn std::error:
         )?;
     }
     Ok(md)
+}
+
+/// Fang's drop with each rheology in `RHEOLOGIES` (model parameters at their defaults).
+pub fn rheology_cases() -> Vec<(RheologyKind, SceneConfig)> {
+    RHEOLOGIES
+        .iter()
+        .filter_map(|(n, _)| RheologyKind::parse(n))
+        .map(|r| {
+            let mut c = SceneConfig::default();
+            c.rheology = r;
+            (r, c)
+        })
+        .collect()
+}
+
+fn bench_rheologies(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::Error>> {
+    let ppd = if quick { 12 } else { 30 };
+    let mut runs = Vec::new();
+    let mut md = String::from("| rheology | first peak W* | t* of peak | W* at t* = 8 | H* at t* = 8 | max tr(A) | wall time [s] | breakdown |\n|---|---|---|---|---|---|---|---|\n");
+    let mut csv = String::from("rheology,time,t_star,w_star,h_star\n");
+    for (r, mut c) in rheology_cases() {
+        c.particles_per_diameter = ppd;
+        let opts = RunOptions::for_scene(&c);
+        eprintln!("bench rheologies: {r} ...");
+        let res = run(&c, &opts)?;
+        let ts = time_scale(&c);
+        let d = c.drop_diameter;
+        let w: Vec<(f64, f64)> = res
+            .series
+            .iter()
+            .map(|(t, o)| (t / ts, o.drop_width / d))
+            .collect();
+        let (tmax, wmax) = first_peak(&w);
+        let last = res.series.last().expect("series").1;
+        let trace = res
+            .series
+            .iter()
+            .map(|(_, o)| o.max_conformation_trace)
+            .fold(0.0, f64::max);
+        writeln!(
+            md,
+            "| {r} | {wmax:.3} | {tmax:.2} | {:.3} | {:.3} | {} | {:.2} | {} |",
+            last.drop_width / d,
+            last.drop_height / d,
+            if trace > 0.0 {
+                format!("{trace:.2}")
+            } else {
+                "-".into()
+            },
+            res.wall_seconds,
+            res.error
+                .as_ref()
+                .map(|e| e.to_string())
+                .unwrap_or("none".into())
+        )?;
+        for (t, o) in &res.series {
+            writeln!(
+                csv,
+                "{r},{t:.6e},{:.4},{:.5},{:.5}",
+                t / ts,
+                o.drop_width / d,
+                o.drop_height / d
+            )?;
+        }
+        runs.push((r.to_string(), res.series));
+    }
+    let cfg = SceneConfig::default();
+    let refs: Vec<(String, &[(f64, Outputs)])> =
+        runs.iter().map(|(n, s)| (n.clone(), &s[..])).collect();
+    crate::run::plot_width_height(&out.join("rheologies.png"), &cfg, &refs)?;
+    std::fs::write(out.join("rheologies.csv"), &csv)?;
+    std::fs::write(out.join("rheologies.md"), &md)?;
+    Ok(md)
+}
+
+/// The first local maximum of a curve (the last point if it never falls).
+pub fn first_peak(points: &[(f64, f64)]) -> (f64, f64) {
+    points
+        .windows(2)
+        .find(|w| w[1].1 < w[0].1)
+        .map(|w| w[0])
+        .or_else(|| points.last().copied())
+        .unwrap_or((0.0, 0.0))
 }
 
 /// How one stability run ended.
