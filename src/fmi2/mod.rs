@@ -1,1 +1,23 @@
-//! FMI 2.0 Co-Simulation layer (see issue 3).
+//! FMI 2.0 Co-Simulation layer: the solver as `ViscoSPH.fmu` (issue 3).
+//!
+//! A thin translator over the same [`Simulation`](crate::simulation::Simulation) and the same
+//! parameter validation ([`SceneConfig::set`](crate::config::SceneConfig::set) /
+//! [`validate`](crate::config::SceneConfig::validate)) the CLI uses:
+//!
+//! - [`model_description`] generates `modelDescription.xml` from the parameter and output
+//!   tables, and the GUID that ties the XML to the binary;
+//! - [`instance`] is the Co-Simulation state machine (safe Rust, unit-tested in-process);
+//! - `exports` holds the 44 `extern "C"` functions of `fmi2Functions.h`: pointer checks,
+//!   `catch_unwind`, and a call into [`instance::Instance`];
+//! - [`types`] are the C types of the FMI 2.0 headers.
+//!
+//! No global mutable state: everything lives in the instance, so several instances in one
+//! process, on several threads, are independent (FMI 2.0 section 2.1.5,
+//! `canBeInstantiatedOnlyOncePerProcess = false`). The working directory is never changed.
+
+mod exports;
+pub mod instance;
+pub mod model_description;
+pub mod types;
+
+pub use model_description::{guid, model_description_xml, MODEL_IDENTIFIER};

@@ -1,0 +1,210 @@
+//! `modelDescription/modelDescription.xml` against the tables it is generated from.
+//!
+//! Two checks, so the XML and the solver cannot drift apart: the committed file is byte for
+//! byte what `viscosph::fmi2::model_description_xml()` generates from `PARAMS` and `OUTPUTS`
+//! today, and, parsed with a general XML parser (roxmltree), every variable's name, value
+//! reference, causality, variability, type, start, min, max and unit is the table's (FMI 2.0
+//! section 2.2.7), the enumeration types list the table's items in order, every unit used is
+//! defined, names and value references are unique, and the ModelStructure lists exactly the
+//! outputs (section 2.2.8).
+
+use roxmltree::{Document, Node};
+use std::collections::HashSet;
+use viscosph::config::{param_spec, Kind, SceneConfig, Value, PARAMS};
+use viscosph::diagnostics::OUTPUTS;
+use viscosph::fmi2::model_description::parameter_description;
+use viscosph::fmi2::{guid, model_description_xml};
+
+const PATH: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/modelDescription/modelDescription.xml"
+);
+
+fn committed() -> String {
+    std::fs::read_to_string(PATH).expect("modelDescription/modelDescription.xml exists")
+}
+
+fn child<'a, 'i>(n: Node<'a, 'i>, tag: &str) -> Node<'a, 'i> {
+    n.children()
+        .find(|c| c.has_tag_name(tag))
+        .unwrap_or_else(|| panic!("<{}> has no <{tag}>", n.tag_name().name()))
+}
+
+fn elements<'a, 'i>(n: Node<'a, 'i>, tag: &'a str) -> impl Iterator<Item = Node<'a, 'i>> + 'a {
+    n.children().filter(move |c| c.has_tag_name(tag))
+}
+
+fn attr<'a>(n: Node<'a, '_>, name: &str) -> &'a str {
+    n.attribute(name).unwrap_or_else(|| {
+        panic!(
+            "<{} name={:?}> has no attribute {name}",
+            n.tag_name().name(),
+            n.attribute("name")
+        )
+    })
+}
+
+fn num(n: Node, name: &str) -> f64 {
+    attr(n, name)
+        .parse()
+        .unwrap_or_else(|e| panic!("{name}: {e}"))
+}
+
+#[test]
+fn committed_file_is_the_generated_one() {
+    assert!(
+        committed() == model_description_xml(),
+        "modelDescription/modelDescription.xml is stale: run \
+         `cargo run --release -p fmu-build -- --write-model-description` and commit it"
+    );
+}
+
+#[test]
+fn every_variable_matches_the_tables() {
+    let text = committed();
+    let doc = Document::parse(&text).expect("well-formed XML");
+    let root = doc.root_element();
+    assert_eq!(root.tag_name().name(), "fmiModelDescription");
+    assert_eq!(attr(root, "fmiVersion"), "2.0");
+    assert_eq!(attr(root, "guid"), guid());
+
+    // Co-Simulation only, with the capability flags of issue 3.
+    assert!(root.children().all(|c| !c.has_tag_name("ModelExchange")));
+    let cs = child(root, "CoSimulation");
+    assert_eq!(attr(cs, "modelIdentifier"), "ViscoSPH");
+    for (flag, value) in [
+        ("canHandleVariableCommunicationStepSize", "true"),
+        ("canGetAndSetFMUstate", "true"),
+        ("canSerializeFMUstate", "true"),
+        ("canNotUseMemoryManagementFunctions", "true"),
+        ("canBeInstantiatedOnlyOncePerProcess", "false"),
+    ] {
+        assert_eq!(attr(cs, flag), value, "{flag}");
+    }
+
+    let units: HashSet<&str> = elements(child(root, "UnitDefinitions"), "Unit")
+        .map(|u| attr(u, "name"))
+        .collect();
+    let types: Vec<Node> = elements(child(root, "TypeDefinitions"), "SimpleType").collect();
+
+    let vars: Vec<Node> = elements(child(root, "ModelVariables"), "ScalarVariable").collect();
+    assert_eq!(vars.len(), PARAMS.len() + OUTPUTS.len());
+    let names: HashSet<&str> = vars.iter().map(|v| attr(*v, "name")).collect();
+    assert_eq!(names.len(), vars.len(), "variable names are unique");
+    let vrs: HashSet<&str> = vars.iter().map(|v| attr(*v, "valueReference")).collect();
+    assert_eq!(vrs.len(), vars.len(), "value references are unique");
+
+    let find = |name: &str| -> (usize, Node) {
+        vars.iter()
+            .enumerate()
+            .find(|(_, v)| v.attribute("name") == Some(name))
+            .map(|(i, v)| (i + 1, *v))
+            .unwrap_or_else(|| panic!("{name} is not in modelDescription.xml"))
+    };
+    let unit_ok = |elem: Node, unit: &str| {
+        if unit.is_empty() {
+            assert!(elem.attribute("unit").is_none());
+        } else {
+            assert_eq!(attr(elem, "unit"), unit);
+            assert!(units.contains(unit), "unit {unit} is defined");
+        }
+    };
+
+    for p in PARAMS {
+        let (_, v) = find(p.name);
+        assert_eq!(
+            num(v, "valueReference"),
+            p.value_reference as f64,
+            "{}",
+            p.name
+        );
+        assert_eq!(attr(v, "causality"), "parameter", "{}", p.name);
+        assert_eq!(attr(v, "variability"), "fixed", "{}", p.name);
+        assert_eq!(attr(v, "initial"), "exact", "{}", p.name);
+        assert_eq!(attr(v, "description"), parameter_description(p));
+        match p.kind {
+            Kind::Real {
+                default, min, max, ..
+            } => {
+                let e = child(v, "Real");
+                assert_eq!(num(e, "start"), default, "{}", p.name);
+                assert_eq!(num(e, "min"), min, "{}", p.name);
+                assert_eq!(num(e, "max"), max, "{}", p.name);
+                unit_ok(e, p.unit);
+            }
+            Kind::Integer { default, min, max } => {
+                let e = child(v, "Integer");
+                assert_eq!(num(e, "start"), default as f64, "{}", p.name);
+                assert_eq!(num(e, "min"), min as f64, "{}", p.name);
+                assert_eq!(num(e, "max"), max as f64, "{}", p.name);
+            }
+            Kind::Enumeration {
+                type_name,
+                items,
+                default,
+            } => {
+                let e = child(v, "Enumeration");
+                assert_eq!(attr(e, "declaredType"), type_name);
+                let start = items.iter().position(|(n, _)| *n == default).unwrap() + 1;
+                assert_eq!(num(e, "start"), start as f64, "{}", p.name);
+                let t = types
+                    .iter()
+                    .find(|t| t.attribute("name") == Some(type_name))
+                    .unwrap_or_else(|| panic!("type {type_name} is defined"));
+                let listed: Vec<(String, String)> = elements(child(*t, "Enumeration"), "Item")
+                    .map(|i| (attr(i, "name").to_string(), attr(i, "value").to_string()))
+                    .collect();
+                let expected: Vec<(String, String)> = items
+                    .iter()
+                    .enumerate()
+                    .map(|(k, (n, _))| (n.to_string(), (k + 1).to_string()))
+                    .collect();
+                assert_eq!(listed, expected, "{type_name}");
+            }
+        }
+    }
+
+    let mut output_indices = Vec::new();
+    for o in OUTPUTS {
+        let (index, v) = find(o.name);
+        output_indices.push(index.to_string());
+        assert_eq!(
+            num(v, "valueReference"),
+            o.value_reference as f64,
+            "{}",
+            o.name
+        );
+        assert_eq!(attr(v, "causality"), "output");
+        assert_eq!(attr(v, "variability"), "continuous");
+        assert_eq!(attr(v, "initial"), "calculated");
+        assert_eq!(attr(v, "description"), o.description);
+        let e = child(v, "Real");
+        assert!(e.attribute("start").is_none(), "calculated: no start");
+        unit_ok(e, o.unit);
+    }
+
+    let ms = child(root, "ModelStructure");
+    for list in ["Outputs", "InitialUnknowns"] {
+        let listed: Vec<String> = elements(child(ms, list), "Unknown")
+            .map(|u| attr(u, "index").to_string())
+            .collect();
+        assert_eq!(listed, output_indices, "ModelStructure/{list}");
+    }
+}
+
+/// The parameter `drop_height` of early scene files is `initial_drop_height` in the FMU (the
+/// name `drop_height` belongs to an output, and FMU names are unique); both names set it.
+#[test]
+fn drop_height_is_the_older_name_of_initial_drop_height() {
+    assert_eq!(
+        param_spec("drop_height").map(|p| p.name),
+        Some("initial_drop_height")
+    );
+    let mut a = SceneConfig::default();
+    let mut b = SceneConfig::default();
+    a.set("drop_height", Value::Real(0.05)).unwrap();
+    b.set("initial_drop_height", Value::Real(0.05)).unwrap();
+    assert_eq!(a, b);
+    assert_eq!(a.drop_height, 0.05);
+    assert_eq!(a.get("initial_drop_height").unwrap(), Value::Real(0.05));
+}
