@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# The README's main job: build target/fmu/ViscoSPH.fmu and run the default drop impact (Fang
+# 2006's Oldroyd-B drop) through it with fmpy, writing results/fmu_drop.csv and
+# results/fmu_drop.png. Extra arguments go to examples/fmu_drop.py, e.g.
+#   bash examples/main.sh --set plate_inclination=30 --set rheology=giesekus
+# Idempotent: a second run rebuilds nothing and reinstalls nothing.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+# Its own target directory: never recompiles what `cargo test --workspace` built in target/
+# (different dependency features), and the other way round.
+cargo run --release -p fmu-build --target-dir target/fmu-build
+bash tests/python/setup_venv.sh
+.venv/bin/python examples/fmu_drop.py "$@"
