@@ -113,3 +113,20 @@ fn run_writes_timeseries_snapshots_and_plots() {
         .count();
     assert!(snaps >= 5, "{snaps} snapshots");
 }
+
+#[test]
+fn example_scenes_are_valid() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes");
+    let mut n = 0;
+    for e in std::fs::read_dir(&dir).unwrap() {
+        let path = e.unwrap().path();
+        if path.extension().is_some_and(|x| x == "toml") {
+            let text = std::fs::read_to_string(&path).unwrap();
+            let cfg = viscosph::SceneConfig::from_toml_str(&text)
+                .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            viscosph::Simulation::new(cfg).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            n += 1;
+        }
+    }
+    assert!(n >= 4, "{n} scenes");
+}
