@@ -2,9 +2,9 @@
 //!
 //! Each one is a thin translator: check the instance pointer, turn C arrays and strings into
 //! slices (refusing NULL where the standard requires an array), call the safe [`Instance`]
-//! method, and return its status. Every body runs inside `catch_unwind`, so a panic becomes an
-//! `fmi2Error` with a log message instead of unwinding into the importer (undefined behaviour)
-//! or aborting the host process.
+//! method, and return its status. Every body that can fail runs inside `catch_unwind` (all but
+//! the two constant-string getters), so a panic becomes an `fmi2Error` with a log message
+//! instead of unwinding into the importer (undefined behaviour) or aborting the host process.
 //!
 //! All 44 functions of the header are exported, because importers such as fmpy resolve every
 //! `fmi2*` symbol when they load a binary (FMI 2.0 section 2.1.1). The Model-Exchange ones and
