@@ -463,8 +463,10 @@ pub fn rheology_cases() -> Vec<(RheologyKind, SceneConfig)> {
         .iter()
         .filter_map(|(n, _)| RheologyKind::parse(n))
         .map(|r| {
-            let mut c = SceneConfig::default();
-            c.rheology = r;
+            let c = SceneConfig {
+                rheology: r,
+                ..Default::default()
+            };
             (r, c)
         })
         .collect()
@@ -702,8 +704,10 @@ pub fn built_schemes() -> Vec<SchemeKind> {
         .iter()
         .filter_map(|(n, _)| SchemeKind::parse(n))
         .filter(|s| {
-            let mut c = SceneConfig::default();
-            c.scheme = *s;
+            let c = SceneConfig {
+                scheme: *s,
+                ..Default::default()
+            };
             c.validate().is_ok()
         })
         .collect()
@@ -731,11 +735,12 @@ fn bench_stability(out: &Path, quick: bool) -> Result<String, Box<dyn std::error
     );
     let mut md = String::new();
     let base = |scheme: SchemeKind, rheo: RheologyKind| {
-        let mut c = SceneConfig::default();
-        c.scheme = scheme;
-        c.rheology = rheo;
-        c.particles_per_diameter = ppd;
-        c
+        SceneConfig {
+            scheme,
+            rheology: rheo,
+            particles_per_diameter: ppd,
+            ..Default::default()
+        }
     };
     let record = |csv: &mut String,
                   sweep: &str,

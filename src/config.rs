@@ -724,17 +724,21 @@ mod tests {
 
     #[test]
     fn drop_inside_plate_is_refused() {
-        let mut c = SceneConfig::default();
-        c.drop_height = 0.01;
+        let c = SceneConfig {
+            drop_height: 0.01,
+            ..Default::default()
+        };
         let e = c.validate().unwrap_err().to_string();
         assert!(e.contains("drop_height"), "{e}");
     }
 
     #[test]
     fn model_specific_ranges_are_refused_with_the_parameter_named() {
-        let mut c = SceneConfig::default();
-        c.rheology = RheologyKind::PttLinear;
-        c.ptt_epsilon = 0.6;
+        let mut c = SceneConfig {
+            rheology: RheologyKind::PttLinear,
+            ptt_epsilon: 0.6,
+            ..Default::default()
+        };
         let e = c.validate().unwrap_err().to_string();
         assert!(e.contains("ptt_epsilon") && e.contains("0.6"), "{e}");
         c.rheology = RheologyKind::PttExponential;
@@ -742,13 +746,18 @@ mod tests {
         c.rheology = RheologyKind::Cross;
         c.cross_viscosity_inf = 5.0;
         let e = c.validate().unwrap_err().to_string();
-        assert!(e.contains("cross_viscosity_inf") && e.contains("viscosity"), "{e}");
+        assert!(
+            e.contains("cross_viscosity_inf") && e.contains("viscosity"),
+            "{e}"
+        );
     }
 
     #[test]
     fn huge_resolution_is_refused() {
-        let mut c = SceneConfig::default();
-        c.particles_per_diameter = 4000;
+        let c = SceneConfig {
+            particles_per_diameter: 4000,
+            ..Default::default()
+        };
         let e = c.validate().unwrap_err().to_string();
         assert!(
             e.contains("particles_per_diameter") && e.contains("memory"),
