@@ -297,7 +297,7 @@ fn bench_throughput(out: &Path, quick: bool) -> Result<String, Box<dyn std::erro
             cfg.set("particles_per_diameter", Value::Integer(ppd))?;
             // Start one spacing above the plate, moving down: walls are in play from the first step.
             let h = 0.5 * cfg.drop_diameter + 1.5 * cfg.dx();
-            cfg.set("drop_height", Value::Real(h))?;
+            cfg.set("initial_drop_height", Value::Real(h))?;
             let steps = ((2e6 / n) as u64).clamp(10, 400) / if quick { 4 } else { 1 };
             for threads in [1usize, 2] {
                 eprintln!("bench throughput: {name}, {n:.0} particles, {threads} thread(s) ...");
