@@ -193,7 +193,7 @@ fn drop_at_rest_weighs_on_the_plate() {
         ("rheology", s("newtonian")),
         ("viscosity", r(40.0)),
         ("impact_velocity", r(0.0)),
-        ("drop_height", r(0.5 * D + 2.0 * D / 20.0)),
+        ("initial_drop_height", r(0.5 * D + 2.0 * D / 20.0)),
         ("artificial_stress_epsilon", r(0.2)),
     ]);
     let mut sim = Simulation::new(c.clone()).unwrap();
