@@ -325,9 +325,90 @@ fn bench_throughput(out: &Path, quick: bool) -> Result<String, Box<dyn std::erro
             }
         }
     }
+    let (lib, chunks, fmu) = fmu_overhead(if quick { 0.04 } else { 0.16 })?;
+    writeln!(
+        md,
+        "\n### FMU overhead: the default drop to t = {} s\n",
+        if quick { 0.04 } else { 0.16 }
+    )?;
+    writeln!(
+        md,
+        "| path | wall time [s] | relative to one library call |\n|---|---|---|"
+    )?;
+    writeln!(md, "| library, one `advance_to` | {lib:.3} | 1.00 |")?;
+    writeln!(
+        md,
+        "| library, `advance_to` + `outputs` every 1 ms | {chunks:.3} | {:.3} |",
+        chunks / lib
+    )?;
+    writeln!(
+        md,
+        "| FMI layer, `fmi2DoStep` + `fmi2GetReal` of every output every 1 ms | {fmu:.3} | {:.3} |",
+        fmu / lib
+    )?;
+    writeln!(csv, "fmu_overhead_library_one_call,,,{lib:.4}\nfmu_overhead_library_1ms,,,{chunks:.4}\nfmu_overhead_fmi_1ms,,,{fmu:.4}")?;
     std::fs::write(out.join("throughput.csv"), &csv)?;
     std::fs::write(out.join("throughput.md"), &md)?;
     Ok(md)
+}
+
+/// Wall times of the default drop to `t_end`: one library call, the library in 1 ms chunks with
+/// the outputs read each time, and the FMI 2.0 instance layer (the code behind the exported
+/// `fmi2*` functions: state machine, value-reference lookup, `fmi2DoStep`, `fmi2GetReal` of every
+/// output) at a 1 ms communication step. The C ABI hop on top of that layer is a null check and a
+/// `catch_unwind`, nanoseconds per call.
+pub fn fmu_overhead(t_end: f64) -> Result<(f64, f64, f64), Box<dyn std::error::Error>> {
+    use crate::fmi2::instance::Instance;
+    let cfg = SceneConfig::default();
+    let h = 1e-3;
+    let n = (t_end / h).round() as usize;
+    let start = std::time::Instant::now();
+    let mut sim = Simulation::new(cfg.clone())?;
+    sim.advance_to(t_end)?;
+    let lib = start.elapsed().as_secs_f64();
+
+    let start = std::time::Instant::now();
+    let mut sim = Simulation::new(cfg)?;
+    let mut sink = 0.0;
+    for k in 1..=n {
+        sim.advance_to(k as f64 * h)?;
+        sink += sim.outputs().drop_width;
+    }
+    let chunks = start.elapsed().as_secs_f64();
+
+    let vrs: Vec<u32> = crate::OUTPUTS
+        .iter()
+        .filter(|o| o.name != "particle_count")
+        .map(|o| o.value_reference)
+        .collect();
+    let mut values = vec![0.0; vrs.len()];
+    let start = std::time::Instant::now();
+    let mut inst = Instance::new("bench", false, Box::new(|_, _, _| {}));
+    let ok =
+        |s: crate::fmi2::types::Status, what: &str| -> Result<(), Box<dyn std::error::Error>> {
+            if s == crate::fmi2::types::Status::Ok {
+                Ok(())
+            } else {
+                Err(format!("FMI layer: {what} answered {s:?}").into())
+            }
+        };
+    ok(
+        inst.setup_experiment(None, 0.0, Some(t_end)),
+        "setup_experiment",
+    )?;
+    ok(
+        inst.enter_initialization_mode(),
+        "enter_initialization_mode",
+    )?;
+    ok(inst.exit_initialization_mode(), "exit_initialization_mode")?;
+    for k in 0..n {
+        ok(inst.do_step(k as f64 * h, h), "do_step")?;
+        ok(inst.get_real(&vrs, &mut values), "get_real")?;
+        sink += values[0];
+    }
+    let fmu = start.elapsed().as_secs_f64();
+    assert!(sink.is_finite());
+    Ok((lib, chunks, fmu))
 }
 
 /// One point of an accuracy-against-cost curve.
@@ -734,13 +815,11 @@ fn bench_stability(out: &Path, quick: bool) -> Result<String, Box<dyn std::error
         "sweep,scheme,rheology,parameter,value,stable,breakdown_t_star,cause,wall_seconds\n",
     );
     let mut md = String::new();
-    let base = |scheme: SchemeKind, rheo: RheologyKind| {
-        SceneConfig {
-            scheme,
-            rheology: rheo,
-            particles_per_diameter: ppd,
-            ..Default::default()
-        }
+    let base = |scheme: SchemeKind, rheo: RheologyKind| SceneConfig {
+        scheme,
+        rheology: rheo,
+        particles_per_diameter: ppd,
+        ..Default::default()
     };
     let record = |csv: &mut String,
                   sweep: &str,
