@@ -1,11 +1,14 @@
 //! A simulation: the state, the scheme chosen for it, and `advance_to` with adaptive sub-steps.
 
-use crate::config::{ConfigError, Scene, SceneConfig};
+use crate::config::{ConfigError, Scene, SceneConfig, SchemeKind};
 use crate::diagnostics::Outputs;
 use crate::kernel::CubicSpline;
 use crate::particles::Fluid;
 use crate::rheology::{AnyRheology, Rheology};
-use crate::scheme::wcsph::{Params, Wcsph};
+use crate::scene::elliptical_drop::{self, SemiAxes};
+use crate::scheme::common::{pressure_roughness, Params};
+use crate::scheme::pdri::Pdri;
+use crate::scheme::wcsph::Wcsph;
 use crate::scheme::Scheme;
 use crate::{dispatch_rheology, Vec2};
 use serde::{Deserialize, Serialize};
@@ -46,13 +49,16 @@ pub struct State {
 /// A running simulation.
 pub struct Simulation {
     cfg: SceneConfig,
+    /// The configuration the solver runs: the scene's own physics over `cfg`'s numerics
+    /// ([`crate::scene::effective_config`]); equal to `cfg` for the drop.
+    eff: SceneConfig,
     state: State,
     scheme: Box<dyn Scheme>,
     elastic: bool,
 }
 
-/// Build the scheme for a configuration, resolving scheme, kernel and rheology once into a
-/// concrete type.
+/// Build the scheme for an (effective) configuration, resolving scheme, kernel and rheology once
+/// into a concrete type.
 fn build_scheme(
     cfg: &SceneConfig,
     plate: Option<crate::boundary::plate::Plate>,
@@ -60,9 +66,20 @@ fn build_scheme(
     let model = AnyRheology::from_config(cfg)?;
     let kernel = CubicSpline::new(cfg.h());
     let params = Params::from_config(cfg);
+    let kind = cfg.scheme;
+    if kind == SchemeKind::Isph {
+        return Err(SimError::Config(ConfigError::Inconsistent(
+            "scheme 'isph' is not implemented yet".into(),
+        )));
+    }
     Ok(dispatch_rheology!(model, m => {
         let elastic = elastic_of(&m);
-        (Box::new(Wcsph::new(kernel, m, params, plate)) as Box<dyn Scheme>, elastic)
+        let scheme: Box<dyn Scheme> = if kind == SchemeKind::Pdri {
+            Box::new(Pdri::new(kernel, m, params, plate))
+        } else {
+            Box::new(Wcsph::new(kernel, m, params, plate))
+        };
+        (scheme, elastic)
     }))
 }
 
@@ -74,19 +91,21 @@ impl Simulation {
     /// Validate the configuration and build the initial state.
     pub fn new(cfg: SceneConfig) -> Result<Self, SimError> {
         cfg.validate()?;
-        let (_, elastic) = build_scheme(&cfg, None)?;
+        let eff = crate::scene::effective_config(&cfg);
+        let (_, elastic) = build_scheme(&eff, None)?;
         let (fluid, plate) = match cfg.scene {
             Scene::Drop => {
-                let (f, p) = crate::scene::drop::build(&cfg, elastic);
+                let (f, p) = crate::scene::drop::build(&eff, elastic);
                 (f, Some(p))
             }
+            Scene::EllipticalDrop => (elliptical_drop::build(&eff), None),
             other => {
                 return Err(SimError::Config(ConfigError::Inconsistent(format!(
                     "scene '{other}' is not implemented yet"
                 ))))
             }
         };
-        let (scheme, _) = build_scheme(&cfg, plate.clone())?;
+        let (scheme, _) = build_scheme(&eff, plate.clone())?;
         let state = State {
             time: 0.0,
             step: 0,
@@ -99,14 +118,21 @@ impl Simulation {
         };
         Ok(Self {
             cfg,
+            eff,
             state,
             scheme,
             elastic,
         })
     }
 
+    /// The configuration as given.
     pub fn config(&self) -> &SceneConfig {
         &self.cfg
+    }
+    /// The configuration the solver runs: for the elliptical drop, the scene's own physics
+    /// (radius, density, viscosity, sound speed...) over the given numerics.
+    pub fn effective_config(&self) -> &SceneConfig {
+        &self.eff
     }
     pub fn state(&self) -> &State {
         &self.state
@@ -155,9 +181,44 @@ impl Simulation {
         Ok(())
     }
 
+    /// Advance to `t_end` recording the outputs now and every `dt` after: the record as far as it
+    /// got, and the breakdown that ended it early, if any.
+    pub fn record(&mut self, t_end: f64, dt: f64) -> (Vec<(f64, Outputs)>, Option<SimError>) {
+        let mut out = vec![(self.time(), self.outputs())];
+        let (t0, n) = (self.time(), ((t_end - self.time()) / dt).round() as usize);
+        for k in 1..=n {
+            if let Err(e) = self.advance_to((t0 + k as f64 * dt).min(t_end)) {
+                return (out, Some(e));
+            }
+            out.push((self.time(), self.outputs()));
+        }
+        (out, None)
+    }
+
     /// The outputs at the current time.
     pub fn outputs(&self) -> Outputs {
-        Outputs::compute(&self.state, self.cfg.dx(), self.cfg.density)
+        Outputs::compute(&self.state, self.eff.dx(), self.eff.density)
+    }
+
+    /// For the elliptical drop, the semi-axes of the fluid now against the exact ones (relative
+    /// error of the semi-major axis, product of the semi-axes); `None` for other scenes.
+    pub fn elliptical_semi_axes(&self) -> Option<SemiAxes> {
+        (self.cfg.scene == Scene::EllipticalDrop)
+            .then(|| elliptical_drop::semi_axes(&self.state.fluid, self.state.time))
+    }
+
+    /// Pressure roughness of the fluid now: RMS of p_i minus its SPH-smoothed value, over the
+    /// dynamic pressure rho0 U^2 of the scene (see
+    /// [`pressure_roughness`](crate::scheme::common::pressure_roughness) and
+    /// [`crate::scene::velocity_scale`]).
+    pub fn pressure_roughness(&self) -> f64 {
+        let u = crate::scene::velocity_scale(&self.eff);
+        pressure_roughness(
+            &self.state.fluid,
+            &Params::from_config(&self.eff),
+            &CubicSpline::new(self.eff.h()),
+            self.eff.density * u * u,
+        )
     }
 
     /// Total momentum of the fluid [kg m/s per m depth].
@@ -186,9 +247,11 @@ impl Simulation {
         let (cfg, state): (SceneConfig, State) =
             bincode::deserialize(bytes).map_err(|e| SimError::State(e.to_string()))?;
         cfg.validate()?;
-        let (scheme, elastic) = build_scheme(&cfg, state.plate.clone())?;
+        let eff = crate::scene::effective_config(&cfg);
+        let (scheme, elastic) = build_scheme(&eff, state.plate.clone())?;
         *self = Self {
             cfg,
+            eff,
             state,
             scheme,
             elastic,

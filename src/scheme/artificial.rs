@@ -1,6 +1,9 @@
-//! Artificial viscosity (Fang 2006 eqs. 30-37) and the principal-stress artificial stress against
-//! the tensile instability (Fang 2006 eqs. 38-44, after Gray, Monaghan & Swift).
+//! Artificial viscosity (Fang 2006 eqs. 30-37, Ren 2015 eq. 19) and the two artificial stresses
+//! against the tensile instability: Fang's principal-stress version (Fang 2006 eqs. 38-44, after
+//! Gray, Monaghan & Swift) and Ren's, keyed to the sign of the kernel's second derivative (Ren 2015
+//! eqs. 20a-20b, after Swegle et al.).
 
+use crate::kernel::Kernel;
 use crate::{Mat2, Vec2};
 
 /// Monaghan's artificial viscosity Pi_ij (Fang 2006 eqs. 31-37).
@@ -10,6 +13,7 @@ use crate::{Mat2, Vec2};
 /// form (Monaghan's -(p_i/rho_i^2 + p_j/rho_j^2 + Pi_ij)). We return Pi_ij >= 0 and the caller
 /// subtracts it; with Fang's literal sign the term would pull approaching particles together.
 #[inline]
+#[allow(clippy::too_many_arguments)]
 pub fn viscosity(
     alpha: f64,
     beta: f64,
@@ -58,9 +62,87 @@ pub fn fang_stress(eps: f64, sigma: &Mat2, rho: f64) -> Mat2 {
     Mat2::new(c2 * rxx + s2 * ryy, xy, xy, s2 * rxx + c2 * ryy)
 }
 
+/// Hessian of the kernel with respect to x_i, d2W_ij / dx_i^a dx_i^b, for the pair separation
+/// `xij` = x_i - x_j with |xij|^2 = `r2`: W'' e e^T + (W'/r)(I - e e^T) with e = xij/r (isotropic,
+/// W''(0) I, at r = 0).
+#[inline]
+pub fn kernel_hessian<K: Kernel>(kernel: &K, xij: &Vec2, r2: f64) -> Mat2 {
+    let r = r2.sqrt();
+    let d2 = kernel.d2w(r);
+    if r <= 1e-12 * kernel.h() {
+        return Mat2::identity() * d2;
+    }
+    let dw_r = kernel.dw_over_r(r);
+    let ee = xij * xij.transpose() / r2;
+    ee * (d2 - dw_r) + Mat2::identity() * dw_r
+}
+
+/// Ren's artificial stress S of one particle (Ren 2015 eq. 20b), component by component:
+/// S^ab = -b sigma^ab / rho^2 where (sum_j d2W_ij/dx^a dx^b) sigma^ab > 0, else 0. `hess_sum` is
+/// that sum over the particle's neighbours. Swegle et al. showed the instability grows where the
+/// stress and the kernel's second derivative have the same sign, in compression as in tension;
+/// Fang's version only acts on tension.
+#[inline]
+pub fn ren_stress(b: f64, sigma: &Mat2, rho: f64, hess_sum: &Mat2) -> Mat2 {
+    if b == 0.0 {
+        return Mat2::zeros();
+    }
+    let k = -b / (rho * rho);
+    let pick = |a: usize, c: usize| {
+        if hess_sum[(a, c)] * sigma[(a, c)] > 0.0 {
+            k * sigma[(a, c)]
+        } else {
+            0.0
+        }
+    };
+    let xy = pick(0, 1);
+    Mat2::new(pick(0, 0), xy, xy, pick(1, 1))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::kernel::CubicSpline;
+
+    #[test]
+    fn kernel_hessian_matches_finite_differences() {
+        let k = CubicSpline::new(1.0);
+        let w = |p: Vec2| k.w(p.norm());
+        let e = 1e-4;
+        for p in [
+            Vec2::new(0.3, 0.2),
+            Vec2::new(-1.1, 0.5),
+            Vec2::new(0.2, -1.6),
+        ] {
+            let h = kernel_hessian(&k, &p, p.norm_squared());
+            for a in 0..2 {
+                for b in 0..2 {
+                    let (mut ea, mut eb) = (Vec2::zeros(), Vec2::zeros());
+                    ea[a] = e;
+                    eb[b] = e;
+                    let fd = (w(p + ea + eb) - w(p + ea - eb) - w(p - ea + eb) + w(p - ea - eb))
+                        / (4.0 * e * e);
+                    assert!(
+                        (h[(a, b)] - fd).abs() < 1e-5,
+                        "{a}{b}: {} vs {fd}",
+                        h[(a, b)]
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn ren_stress_follows_the_sign_of_hessian_times_stress() {
+        let sigma = Mat2::new(2.0, -1.0, -1.0, -3.0);
+        // Positive xx curvature with tension, negative yy with compression, xy same sign: all on.
+        let hess = Mat2::new(1.0, -0.5, -0.5, -2.0);
+        let s = ren_stress(0.8, &sigma, 2.0, &hess);
+        assert_eq!(s, sigma * (-0.8 / 4.0));
+        // Flip the curvature: all off (compression with positive curvature is stable).
+        assert_eq!(ren_stress(0.8, &sigma, 2.0, &(-hess)), Mat2::zeros());
+        assert_eq!(ren_stress(0.0, &sigma, 2.0, &hess), Mat2::zeros());
+    }
 
     #[test]
     fn artificial_stress_acts_only_on_tension() {
