@@ -55,7 +55,11 @@ fn run_writes_timeseries_snapshots_and_plots() {
     let dir = tempfile::tempdir().unwrap();
     let scene = dir.path().join("s.toml");
     // Missing keys take their defaults: only the resolution and the drop's start are set.
-    std::fs::write(&scene, "particles_per_diameter = 12\ninitial_drop_height = 0.013\n").unwrap();
+    std::fs::write(
+        &scene,
+        "particles_per_diameter = 12\ninitial_drop_height = 0.013\n",
+    )
+    .unwrap();
     let out_dir = dir.path().join("out");
     let out = viscosph()
         .args([
