@@ -209,7 +209,7 @@ impl Simulation {
 
     /// Pressure roughness of the fluid now: RMS of p_i minus its SPH-smoothed value, over the
     /// dynamic pressure rho0 U^2 of the scene (see
-    /// [`pressure_roughness`](crate::scheme::common::pressure_roughness) and
+    /// [`pressure_roughness`] and
     /// [`crate::scene::velocity_scale`]).
     pub fn pressure_roughness(&self) -> f64 {
         let u = crate::scene::velocity_scale(&self.eff);

@@ -24,22 +24,22 @@ use crate::particles::Fluid;
 use crate::scheme::common::Params;
 use crate::Vec2;
 
-/// Radius of the initial circle [m].
+/// Radius of the initial circle \[m\].
 pub const RADIUS: f64 = 1.0;
-/// Reference density [kg/m3].
+/// Reference density \[kg/m3\].
 pub const DENSITY: f64 = 1000.0;
-/// Dynamic viscosity [Pa s].
+/// Dynamic viscosity \[Pa s\].
 pub const VISCOSITY: f64 = 0.001;
-/// Speed of sound [m/s].
+/// Speed of sound \[m/s\].
 pub const SOUND_SPEED: f64 = 1400.0;
-/// Initial stretching rate A0 [1/s].
+/// Initial stretching rate A0 \[1/s\].
 pub const A0: f64 = 100.0;
-/// End time of Ren's comparison (Ren 2015 Fig. 4) [s].
+/// End time of Ren's comparison (Ren 2015 Fig. 4) \[s\].
 pub const T_END: f64 = 0.008;
 /// The scene's unit of t*: T_END / 8, so that the default run to t* = 8 of the drop scenes ends
 /// at T_END. (The flow's own time scale 1/A0 is 0.01 s.)
 pub const TIME_SCALE: f64 = T_END / 8.0;
-/// Velocity scale A0 R [m/s] (the initial speed at the rim).
+/// Velocity scale A0 R \[m/s\] (the initial speed at the rim).
 pub const VELOCITY_SCALE: f64 = A0 * RADIUS;
 
 /// The configuration the solver actually runs for this scene. Taken from `cfg`: `scheme`,
@@ -96,7 +96,7 @@ pub fn build(cfg: &SceneConfig) -> Fluid {
     fluid
 }
 
-/// The exact state at time t: a (the x semi-axis over R; the y semi-axis is R/a) and A [1/s].
+/// The exact state at time t: a (the x semi-axis over R; the y semi-axis is R/a) and A \[1/s\].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Exact {
     pub a: f64,
@@ -129,19 +129,19 @@ pub fn exact(t: f64) -> Exact {
 /// The semi-axes of the simulated drop against the exact ones.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SemiAxes {
-    /// Half the extent of the particle centres along x (the semi-minor axis) [m].
+    /// Half the extent of the particle centres along x (the semi-minor axis) \[m\].
     pub minor: f64,
-    /// Half the extent of the particle centres along y (the semi-major axis) [m].
+    /// Half the extent of the particle centres along y (the semi-major axis) \[m\].
     pub major: f64,
-    /// Exact semi-minor axis a R [m].
+    /// Exact semi-minor axis a R \[m\].
     pub exact_minor: f64,
-    /// Exact semi-major axis R / a [m].
+    /// Exact semi-major axis R / a \[m\].
     pub exact_major: f64,
     /// Relative error of the semi-major axis from the extents, major / exact_major - 1.
     pub major_error: f64,
     /// Product of the semi-axes from the extents, over R^2.
     pub product: f64,
-    /// Semi-axes of the ellipse with the fluid's second moments of area [m]: 2 sqrt(<x^2>) and
+    /// Semi-axes of the ellipse with the fluid's second moments of area \[m\]: 2 sqrt(<x^2>) and
     /// 2 sqrt(<y^2>) about the centroid, weighted by the particle volumes m/rho.
     pub fitted_minor: f64,
     pub fitted_major: f64,

@@ -15,7 +15,7 @@ pub fn effective_config(cfg: &SceneConfig) -> SceneConfig {
     }
 }
 
-/// Velocity scale U of a scene [m/s], for dimensionless measures such as the pressure roughness
+/// Velocity scale U of a scene \[m/s\], for dimensionless measures such as the pressure roughness
 /// (normalised by rho0 U^2): the impact velocity of a drop (sqrt(g D) if it is released at rest),
 /// A0 R for the elliptical drop.
 pub fn velocity_scale(cfg: &SceneConfig) -> f64 {

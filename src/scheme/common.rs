@@ -22,6 +22,20 @@
 //!
 //! Every pass is a gather over ascending neighbour indices, so results are bitwise independent of
 //! the thread count.
+//!
+//! **EVSS** (King & Lind eqs. 6-8, `evss_alpha` > 0). With Fang's nested summation the solvent
+//! stress goes through the same first-derivative operator as the polymer stress, and the split
+//! Phi + (beta + alpha_V) eta0 2D = tau_p + beta eta0 2D would be an identity. So with EVSS on,
+//! the viscous part (solvent + added) goes through Morris' Laplacian instead, and the
+//! first-derivative operator sees Phi. Weakly compressible flow has div(2D) = lap v + grad div v
+//! where King & Lind's incompressible scheme has lap v, so what the Laplacian lacks stays with the
+//! first-derivative operator (see pass 1); a unit test checks that the split leaves the viscous
+//! force of smooth flows, sheared or compressed, unchanged to 0.6 %. The two operators still
+//! differ in the dissipation they add at the particle scale (King & Lind section IV.A: the nested
+//! one reaches neighbours of neighbours). Measured on Fang's UCM drop (beta = 0, lambda = 0.02 s,
+//! 316 to 1976 particles): it runs to t* = 8 without EVSS and with evss_alpha = 0.01 or 0.1 (King
+//! & Lind's values), but evss_alpha >= 0.5 orders the particles into chains that the void-fraction
+//! check reports as fracture by t* = 2, under both schemes and both artificial stresses.
 
 use super::artificial;
 use crate::boundary::plate::{Plate, IMAGE_ROWS, PER_COLUMN};
@@ -290,7 +304,7 @@ fn image_factor(row: usize) -> f64 {
 /// What one rate evaluation reports besides the per-particle rates.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct StageReport {
-    /// Force of the virtual (wall) particles on the fluid [N/m].
+    /// Force of the virtual (wall) particles on the fluid \[N/m\].
     pub wall_on_fluid: Vec2,
     /// Largest acceleration magnitude.
     pub max_acc: f64,
@@ -335,7 +349,9 @@ pub struct Core<K: Kernel, R: Rheology> {
     pair_grad: Vec<Vec2>,
     pair_w: Vec<f64>,
     pair_len: Vec<u32>,
-    /// Polymer stress of fluid particles (empty for inelastic models).
+    /// Polymer stress of fluid particles (empty for inelastic models); from pass 1 on, with EVSS,
+    /// the elastic stress as it enters sigma (Phi and its trace term), which is what the wall's
+    /// zero-normal-elastic-stress condition removes.
     tau_p: Vec<Mat2>,
     // Fluid rates of the last evaluation.
     pub kappa: Vec<Mat2>,
@@ -683,6 +699,16 @@ impl<K: Kernel, R: Rheology> Core<K, R> {
                     },
                 );
         }
+        if R::ELASTIC && self.evss.is_on() {
+            let evss = self.evss;
+            self.tau_p
+                .par_iter_mut()
+                .zip(self.kappa.par_iter())
+                .with_min_len(MIN_TASK_LIGHT)
+                .for_each(|(t, k)| {
+                    *t = evss.phi(t, k) + Mat2::identity() * (evss.added_viscosity() * k.trace())
+                });
+        }
         self.virtual_stresses(fl);
         self.all_sr2.resize(self.all_sigma.len(), Mat2::zeros());
         self.all_sr2
@@ -922,7 +948,7 @@ pub fn fluid_void_fraction(fl: &Fluid, plate: &Option<Plate>, dx: f64) -> f64 {
 /// Pressure roughness of a fluid state: the RMS over fluid particles of p_i minus its
 /// SPH-smoothed value p~_i = sum_j V_j p_j W_ij / sum_j V_j W_ij (fluid neighbours, Shepard
 /// normalised so a uniform field is smooth everywhere, the free surface included), divided by
-/// `scale` [Pa]. It measures the particle-to-particle pressure noise that Ren 2015 Figs. 3 and 9
+/// `scale` \[Pa\]. It measures the particle-to-particle pressure noise that Ren 2015 Figs. 3 and 9
 /// show and that periodic density reinitialisation removes.
 pub fn pressure_roughness<K: Kernel>(fl: &Fluid, p: &Params, kernel: &K, scale: f64) -> f64 {
     let n = fl.len();
@@ -1037,10 +1063,7 @@ mod tests {
             let w = kernel.w(r);
             let exact = (w / kernel.w(dx)).powf(1.8);
             let table = art.pair_factor(w, r * r);
-            assert!(
-                (table - exact).abs() < 5e-7,
-                "r = {r}: {table} vs {exact}"
-            );
+            assert!((table - exact).abs() < 5e-7, "r = {r}: {table} vs {exact}");
         }
     }
 

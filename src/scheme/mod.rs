@@ -1,4 +1,4 @@
-//! SPH schemes. A scheme advances a [`State`](crate::simulation::State) by one time step.
+//! SPH schemes. A scheme advances a [`State`] by one time step.
 //!
 //! [`wcsph`] (Fang 2006) and [`pdri`] (Ren 2015) share their rate evaluation, walls and health
 //! check through [`common`]; each keeps its own time integration.

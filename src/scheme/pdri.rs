@@ -1,7 +1,7 @@
 //! PDRI-SPH of Ren, Lu & Jiang 2015: standard SPH with periodic density reinitialisation.
 //!
 //! The rates are the same discretisation as Fang's WCSPH (Ren eqs. 13-16, 19, 21 are Fang eqs.
-//! 23, 26, 27, 30-38), computed by the shared [`Core`](super::common::Core) with Ren's walls:
+//! 23, 26, 27, 30-38), computed by the shared [`Core`] with Ren's walls:
 //! wall particles whose values are interpolated with the weights 2h - r (eq. 23a) and ghost
 //! particles extrapolated from them and from the point F at d0 inside the fluid (eq. 23b).
 //! What is Ren's own lives here:

@@ -1,7 +1,7 @@
 //! Weakly compressible SPH of Fang, Owens, Tacher & Parriaux 2006 (section 3).
 //!
 //! The rates (Fang eqs. 23, 26, 27 with the artificial viscosity 30-37 and an artificial stress)
-//! come from the shared [`Core`](super::common::Core) with Fang's walls (boundary and image
+//! come from the shared [`Core`] with Fang's walls (boundary and image
 //! particles, eqs. 46-48). This file holds what is Fang's own: the predictor-corrector
 //! (eqs. 49-50), the explicit midpoint rule, second order, and the time-step limits (51)-(53)
 //! times `time_step_factor`, with the fastest particle's speed added to the sound speed.
