@@ -17,8 +17,12 @@ pub struct RunOptions {
     pub progress: bool,
 }
 
-/// Characteristic time D/V of a drop (the unit of Fang's t* = t V / D); D / sqrt(g D) if V = 0.
+/// Characteristic time of a scene, the unit of t*: D/V for a drop (Fang's t* = t V / D),
+/// D / sqrt(g D) if V = 0; for the elliptical drop, an eighth of Ren's end time 0.008 s.
 pub fn time_scale(cfg: &SceneConfig) -> f64 {
+    if cfg.scene == crate::config::Scene::EllipticalDrop {
+        return crate::scene::elliptical_drop::TIME_SCALE;
+    }
     let v = if cfg.impact_velocity > 0.0 {
         cfg.impact_velocity
     } else {
@@ -50,6 +54,8 @@ pub struct RunResult {
     pub wall_seconds: f64,
     pub steps: u64,
     pub particles: usize,
+    /// For the elliptical drop: the semi-axes at the end against the exact ones.
+    pub elliptical: Option<crate::scene::elliptical_drop::SemiAxes>,
 }
 
 impl RunResult {
@@ -179,6 +185,7 @@ pub fn run(cfg: &SceneConfig, opts: &RunOptions) -> Result<RunResult, Box<dyn st
         wall_seconds: start.elapsed().as_secs_f64(),
         steps: sim.state().step,
         particles: sim.state().fluid.len(),
+        elliptical: sim.elliptical_semi_axes(),
     };
     if let Some(d) = &opts.out_dir {
         csv::write_timeseries(&d.join("timeseries.csv"), &result.series)?;

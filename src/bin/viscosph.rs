@@ -86,6 +86,18 @@ fn main() -> ExitCode {
                         r.throughput(),
                         out.display()
                     );
+                    if let Some(e) = r.elliptical {
+                        println!(
+                            "semi-major axis at t = {:.6} s: computed {:.6} m, exact {:.6} m, error {:+.3} %; \
+                             product of the semi-axes {:.4} R^2 (extents), {:.4} R^2 (second moments)",
+                            r.series.last().map(|s| s.0).unwrap_or(0.0),
+                            e.major,
+                            e.exact_major,
+                            100.0 * e.major_error,
+                            e.product,
+                            e.fitted_product
+                        );
+                    }
                     if let Some(e) = r.error {
                         eprintln!("error: {e}");
                         return ExitCode::from(1);
