@@ -484,6 +484,69 @@ fn bench_accuracy(out: &Path, quick: bool) -> Result<String, Box<dyn std::error:
             }
         }
     }
+    // Monaghan's elliptical drop: semi-major axis at t = 0.008 s against the exact ODE.
+    let ell_ppds: &[i64] = if quick { &[12, 25] } else { &[25, 50, 100] };
+    writeln!(
+        md,
+        "\n### Elliptical drop: semi-major axis at t = 0.008 s against the exact ODE\n"
+    )?;
+    writeln!(md, "| scheme | particles/diameter | particles | wall time [s] | semi-major axis error | product of semi-axes (extents / second moments) |\n|---|---|---|---|---|---|")?;
+    let variants: Vec<(String, SceneConfig)> = built_schemes()
+        .into_iter()
+        .flat_map(|scheme| {
+            let intervals: Vec<i64> = if scheme == SchemeKind::Pdri {
+                vec![10, 20, 40]
+            } else {
+                vec![0]
+            };
+            intervals.into_iter().map(move |k| {
+                let c = SceneConfig {
+                    scene: crate::config::Scene::EllipticalDrop,
+                    scheme,
+                    density_reinit_interval: k,
+                    ..Default::default()
+                };
+                let name = if scheme == SchemeKind::Pdri {
+                    format!("pdri/{k}")
+                } else {
+                    scheme.to_string()
+                };
+                (name, c)
+            })
+        })
+        .collect();
+    for (name, base) in &variants {
+        for &ppd in ell_ppds {
+            let cfg = SceneConfig {
+                particles_per_diameter: ppd,
+                ..base.clone()
+            };
+            let opts = RunOptions {
+                t_end: crate::scene::elliptical_drop::T_END,
+                output_interval: crate::scene::elliptical_drop::T_END,
+                ..RunOptions::for_scene(&cfg)
+            };
+            eprintln!("bench: elliptical drop, {name} at {ppd} ...");
+            let r = run(&cfg, &opts)?;
+            let Some(e) = r.elliptical else { continue };
+            writeln!(
+                md,
+                "| {name} | {ppd} | {} | {:.2} | {:+.3} % | {:.4} / {:.4} |",
+                r.particles,
+                r.wall_seconds,
+                100.0 * e.major_error,
+                e.product,
+                e.fitted_product
+            )?;
+            points.push(AccuracyPoint {
+                problem: "elliptical_drop".into(),
+                scheme: name.clone(),
+                resolution: format!("{} particles", r.particles),
+                wall_seconds: r.wall_seconds,
+                error: e.major_error.abs(),
+            });
+        }
+    }
     let mut csv = String::from("problem,scheme,resolution,wall_seconds,error\n");
     for p in &points {
         writeln!(

@@ -10,7 +10,7 @@
 //! | `drop_height` | max distance d of fluid from the plate + dx/2. Elliptical drop: extent along y. |
 //! | `spread_front` | max s + dx/2: how far the fluid reaches downhill of the impact point |
 //! | `spread_back` | -(min s - dx/2): how far the fluid reaches uphill of the impact point |
-//! | `wall_force_normal` | force of the fluid on the plate per unit depth along -n (into the plate), at the last step's midpoint |
+//! | `wall_force_normal` | force of the fluid on the plate per unit depth along -n (into the plate), from the last step's corrector stage |
 //! | `wall_force_tangential` | same force along the downhill tangent t |
 //! | `kinetic_energy` | sum of m v^2 / 2 over fluid particles [J/m] |
 //! | `volume_error` | sum(m / rho) / (N m / rho0) - 1: the fluid's volume change through compression |
@@ -19,6 +19,10 @@
 //! | `time_step` | the last full time step taken |
 //! | `particle_count` | number of fluid particles |
 //! | `void_fraction` | area of holes enclosed by fluid over the fluid's area, on cells of 2 dx (see [`crate::health`]) |
+//!
+//! At a communication time between two internal steps, every output is interpolated linearly
+//! between the two internal states (see `Simulation::advance_to`), so outputs at a given time do
+//! not depend on the communication step size.
 //!
 //! The wall force is the force the wall particles exert on the fluid in the corrector stage, with
 //! the sign flipped. Because the same force moves the fluid in that stage, its time integral
@@ -89,6 +93,25 @@ impl Outputs {
             self.particle_count,
             self.void_fraction,
         ]
+    }
+
+    /// Set every value from an array in the order of [`OUTPUTS`].
+    pub fn set_values(&mut self, v: [f64; 13]) {
+        [
+            self.drop_width,
+            self.drop_height,
+            self.wall_force_normal,
+            self.wall_force_tangential,
+            self.spread_front,
+            self.spread_back,
+            self.kinetic_energy,
+            self.volume_error,
+            self.max_conformation_trace,
+            self.min_conformation_det,
+            self.time_step,
+            self.particle_count,
+            self.void_fraction,
+        ] = v;
     }
 
     /// Value of an output by name.

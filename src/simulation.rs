@@ -55,6 +55,12 @@ pub struct Simulation {
     state: State,
     scheme: Box<dyn Scheme>,
     elastic: bool,
+    /// The communication time: where the caller asked to be. The solver's own state
+    /// (`state.time`) is at or just past it, because internal steps are never shortened.
+    t_comm: f64,
+    /// Time and outputs of the internal state before the last step, for interpolating the
+    /// outputs at `t_comm` (None before the first step).
+    prev: Option<(f64, Outputs)>,
 }
 
 /// Build the scheme for an (effective) configuration, resolving scheme, kernel and rheology once
@@ -122,6 +128,8 @@ impl Simulation {
             state,
             scheme,
             elastic,
+            t_comm: 0.0,
+            prev: None,
         })
     }
 
@@ -137,8 +145,11 @@ impl Simulation {
     pub fn state(&self) -> &State {
         &self.state
     }
+    /// The communication time: the `t_end` of the last successful [`Simulation::advance_to`]
+    /// (or, after a breakdown, the time of the last good state). The particles themselves are at
+    /// `state().time`, which may be up to one internal step later.
     pub fn time(&self) -> f64 {
-        self.state.time
+        self.t_comm
     }
     /// Whether the model carries a conformation tensor.
     pub fn is_elastic(&self) -> bool {
@@ -149,23 +160,24 @@ impl Simulation {
     /// land on `t_end`. On a breakdown the state is left at the last good step... and the error
     /// names the time, the step and the cause.
     pub fn advance_to(&mut self, t_end: f64) -> Result<(), SimError> {
-        if !t_end.is_finite() || t_end < self.state.time {
+        if !t_end.is_finite() || t_end < self.t_comm {
             return Err(SimError::Request(format!(
                 "cannot advance from t = {} s to t = {t_end} s",
-                self.state.time
+                self.t_comm
             )));
         }
+        // Internal steps are the scheme's own, never shortened to land on t_end: the trajectory
+        // is then the same whatever the communication steps, and outputs at a communication point
+        // are interpolated between the two internal states around it (dense output). So the
+        // outputs at a given time agree to round-off for any communication step size.
+        let mut last_before: Option<State> = None;
         while self.state.time < t_end {
-            let remaining = t_end - self.state.time;
             let before = self.state.clone();
-            match self.scheme.step(&mut self.state, remaining) {
+            match self.scheme.step(&mut self.state, f64::INFINITY) {
                 Ok(dt) => {
                     self.state.step += 1;
-                    if dt >= remaining {
-                        self.state.time = t_end;
-                    } else {
-                        self.state.time += dt;
-                    }
+                    self.state.time += dt;
+                    last_before = Some(before);
                 }
                 Err(cause) => {
                     let err = SimError::Breakdown {
@@ -174,10 +186,19 @@ impl Simulation {
                         cause,
                     };
                     self.state = before;
+                    self.t_comm = self.t_comm.max(self.state.time);
+                    self.prev = None;
                     return Err(err);
                 }
             }
         }
+        if let Some(b) = last_before {
+            self.prev = Some((
+                b.time,
+                Outputs::compute(&b, self.eff.dx(), self.eff.density),
+            ));
+        }
+        self.t_comm = t_end;
         Ok(())
     }
 
@@ -196,8 +217,22 @@ impl Simulation {
     }
 
     /// The outputs at the current time.
+    /// The outputs at the communication time: linear interpolation between the internal states
+    /// just before and at or after it (`time_step` and `particle_count` are the current ones).
     pub fn outputs(&self) -> Outputs {
-        Outputs::compute(&self.state, self.eff.dx(), self.eff.density)
+        let now = Outputs::compute(&self.state, self.eff.dx(), self.eff.density);
+        match self.prev {
+            Some((tp, before)) if self.state.time > self.t_comm && tp <= self.t_comm => {
+                let w = (self.t_comm - tp) / (self.state.time - tp);
+                let (a, b) = (before.values(), now.values());
+                let mut mixed = now;
+                mixed.set_values(std::array::from_fn(|k| a[k] + w * (b[k] - a[k])));
+                mixed.time_step = now.time_step;
+                mixed.particle_count = now.particle_count;
+                mixed
+            }
+            _ => now,
+        }
     }
 
     /// For the elliptical drop, the semi-axes of the fluid now against the exact ones (relative
@@ -239,12 +274,13 @@ impl Simulation {
 
     /// The state as bytes (bincode): configuration and state, no pointers.
     pub fn save_state(&self) -> Vec<u8> {
-        bincode::serialize(&(&self.cfg, &self.state)).expect("state serialises")
+        bincode::serialize(&(&self.cfg, &self.state, self.t_comm, &self.prev))
+            .expect("state serialises")
     }
 
     /// Restore a state saved by [`Simulation::save_state`], possibly in another process.
     pub fn restore_state(&mut self, bytes: &[u8]) -> Result<(), SimError> {
-        let (cfg, state): (SceneConfig, State) =
+        let (cfg, state, t_comm, prev): (SceneConfig, State, f64, Option<(f64, Outputs)>) =
             bincode::deserialize(bytes).map_err(|e| SimError::State(e.to_string()))?;
         cfg.validate()?;
         let eff = crate::scene::effective_config(&cfg);
@@ -255,6 +291,8 @@ impl Simulation {
             state,
             scheme,
             elastic,
+            t_comm,
+            prev,
         };
         Ok(())
     }

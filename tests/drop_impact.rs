@@ -167,7 +167,8 @@ fn momentum_balance_on_an_inclined_plate() {
         int_t += 0.5 * dt * (o.wall_force_tangential + prev.wall_force_tangential);
         prev = o;
     }
-    let t = sim.time();
+    // The particles are at the solver's own time (at or just past the communication time).
+    let t = sim.state().time;
     // Impulse of the plate on the fluid: change of momentum minus the gravity impulse.
     let j = sim.fluid_momentum() - p0 - Vec2::new(0.0, -c.gravity) * mass * t;
     // Force of the fluid on the plate is -j; outputs: normal into the plate (-n), tangential along t.
