@@ -64,7 +64,17 @@ class Log:
 
 
 def simulate(fmu, start_values=None, stop_time=0.1, step=1e-3, logger=None, debug=False):
-    """simulate_fmu with every output recorded; returns a numpy structured array."""
+    """simulate_fmu with every output recorded; returns a numpy structured array.
+
+    Always passes a logger. fmpy 0.3's native logger proxy (fmpy/logging, addLoggerProxy)
+    keeps one process-wide pointer to the last Python logger registered, and fmpy's default
+    callbacks (used when logger=None) call through it: after a simulate_fmu(logger=...) has
+    returned and its ctypes callback has been collected, a later logger=None run that logs
+    (a refused parameter) can call freed memory and crash the interpreter, depending on GC
+    timing. Registering a fresh logger for every run keeps the proxy pointing at a live one.
+    """
+    if logger is None:
+        logger = Log()
     md = read_model_description(fmu if not pathlib.Path(fmu).is_dir()
                                 else pathlib.Path(fmu) / "modelDescription.xml")
     outputs = [v.name for v in md.modelVariables if v.causality == "output"]
