@@ -712,9 +712,9 @@ fn every_rheology_builds_from_the_configuration() {
         let eta_s = cfg.viscosity_ratio * eta0;
         match (kind, &model) {
             (RheologyKind::Newtonian, AnyRheology::Newtonian(m)) => assert_eq!(m.viscosity, eta0),
-            (RheologyKind::OldroydB, AnyRheology::OldroydB(m)) => assert_eq!(m.eta_s, eta_s),
+            (RheologyKind::OldroydB, AnyRheology::OldroydB(m)) => assert_eq!(m.p.eta_s, eta_s),
             (RheologyKind::Ucm, AnyRheology::OldroydB(m)) => {
-                assert_eq!((m.eta_s, m.eta_p), (0.0, eta0))
+                assert_eq!((m.p.eta_s, m.p.eta_p), (0.0, eta0))
             }
             (RheologyKind::FeneP, AnyRheology::FeneP(m)) => assert_eq!(m.l2, cfg.fene_L2),
             (RheologyKind::FeneCr, AnyRheology::FeneCr(m)) => assert_eq!(m.l2, cfg.fene_L2),

@@ -2,17 +2,13 @@
 //! extensibility L^2 (`fene_L2`). As L^2 -> infinity it becomes Oldroyd-B.
 
 use super::logconf::fene_relaxation;
-use super::Rheology;
+use super::{Polymer, Rheology};
 use crate::Mat2;
 
 #[derive(Debug, Clone)]
 pub struct FeneCr {
-    /// Solvent viscosity beta eta0 [Pa s].
-    pub eta_s: f64,
-    /// Polymer viscosity (1 - beta) eta0 [Pa s].
-    pub eta_p: f64,
-    /// Relaxation time [s].
-    pub lambda: f64,
+    /// Solvent and polymer viscosities and relaxation time.
+    pub p: Polymer,
     /// Extensibility L^2.
     pub l2: f64,
 }
@@ -20,9 +16,7 @@ pub struct FeneCr {
 impl FeneCr {
     pub fn new(eta0: f64, beta: f64, lambda: f64, l2: f64) -> Self {
         Self {
-            eta_s: beta * eta0,
-            eta_p: (1.0 - beta) * eta0,
-            lambda,
+            p: Polymer::new(eta0, beta, lambda),
             l2,
         }
     }
@@ -35,21 +29,7 @@ impl FeneCr {
 }
 
 impl Rheology for FeneCr {
-    const ELASTIC: bool = true;
-    #[inline]
-    fn solvent_viscosity(&self, _kappa: &Mat2) -> f64 {
-        self.eta_s
-    }
-    fn max_viscosity(&self) -> f64 {
-        self.eta_s + self.eta_p
-    }
-    #[inline]
-    fn modulus(&self) -> f64 {
-        self.eta_p / self.lambda
-    }
-    fn relaxation_time(&self) -> f64 {
-        self.lambda
-    }
+    polymer_common!();
     #[inline]
     fn strain(&self, a: &Mat2) -> Mat2 {
         (a - Mat2::identity()) * self.spring(a)
@@ -62,6 +42,6 @@ impl Rheology for FeneCr {
     /// stay below tr(A) = L^2 ([`super::logconf::fene_relaxation`]).
     #[inline]
     fn relaxation_step(&self, a: &Mat2, a_coef: &Mat2, dt: f64) -> Mat2 {
-        fene_relaxation(a, a_coef, self.l2, dt / self.lambda, |f| (f, 1.0))
+        fene_relaxation(a, a_coef, self.l2, dt / self.p.lambda, |f| (f, 1.0))
     }
 }

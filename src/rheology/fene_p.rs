@@ -7,17 +7,13 @@
 //! A = L^2/(L^2 + 2) I, not I; see [`Rheology::rest_conformation`].
 
 use super::logconf::fene_relaxation;
-use super::Rheology;
+use super::{Polymer, Rheology};
 use crate::Mat2;
 
 #[derive(Debug, Clone)]
 pub struct FeneP {
-    /// Solvent viscosity beta eta0 [Pa s].
-    pub eta_s: f64,
-    /// Polymer viscosity (1 - beta) eta0 [Pa s].
-    pub eta_p: f64,
-    /// Relaxation time [s].
-    pub lambda: f64,
+    /// Solvent and polymer viscosities and relaxation time.
+    pub p: Polymer,
     /// Extensibility L^2.
     pub l2: f64,
 }
@@ -25,9 +21,7 @@ pub struct FeneP {
 impl FeneP {
     pub fn new(eta0: f64, beta: f64, lambda: f64, l2: f64) -> Self {
         Self {
-            eta_s: beta * eta0,
-            eta_p: (1.0 - beta) * eta0,
-            lambda,
+            p: Polymer::new(eta0, beta, lambda),
             l2,
         }
     }
@@ -40,21 +34,7 @@ impl FeneP {
 }
 
 impl Rheology for FeneP {
-    const ELASTIC: bool = true;
-    #[inline]
-    fn solvent_viscosity(&self, _kappa: &Mat2) -> f64 {
-        self.eta_s
-    }
-    fn max_viscosity(&self) -> f64 {
-        self.eta_s + self.eta_p
-    }
-    #[inline]
-    fn modulus(&self) -> f64 {
-        self.eta_p / self.lambda
-    }
-    fn relaxation_time(&self) -> f64 {
-        self.lambda
-    }
+    polymer_common!();
     #[inline]
     fn strain(&self, a: &Mat2) -> Mat2 {
         a * self.spring(a) - Mat2::identity()
@@ -67,7 +47,7 @@ impl Rheology for FeneP {
     /// stay below tr(A) = L^2 ([`super::logconf::fene_relaxation`]).
     #[inline]
     fn relaxation_step(&self, a: &Mat2, a_coef: &Mat2, dt: f64) -> Mat2 {
-        fene_relaxation(a, a_coef, self.l2, dt / self.lambda, |f| (1.0, f))
+        fene_relaxation(a, a_coef, self.l2, dt / self.p.lambda, |f| (1.0, f))
     }
     fn rest_conformation(&self) -> Mat2 {
         Mat2::identity() * (self.l2 / (self.l2 + 2.0))

@@ -7,17 +7,13 @@
 //! ([`super::logconf::giesekus_relaxation`]), which keeps A positive definite for any step.
 
 use super::logconf::giesekus_relaxation;
-use super::Rheology;
+use super::{Polymer, Rheology};
 use crate::Mat2;
 
 #[derive(Debug, Clone)]
 pub struct Giesekus {
-    /// Solvent viscosity beta eta0 [Pa s].
-    pub eta_s: f64,
-    /// Polymer viscosity (1 - beta) eta0 [Pa s].
-    pub eta_p: f64,
-    /// Relaxation time [s].
-    pub lambda: f64,
+    /// Solvent and polymer viscosities and relaxation time.
+    pub p: Polymer,
     /// Mobility parameter alpha.
     pub alpha: f64,
 }
@@ -25,30 +21,14 @@ pub struct Giesekus {
 impl Giesekus {
     pub fn new(eta0: f64, beta: f64, lambda: f64, alpha: f64) -> Self {
         Self {
-            eta_s: beta * eta0,
-            eta_p: (1.0 - beta) * eta0,
-            lambda,
+            p: Polymer::new(eta0, beta, lambda),
             alpha,
         }
     }
 }
 
 impl Rheology for Giesekus {
-    const ELASTIC: bool = true;
-    #[inline]
-    fn solvent_viscosity(&self, _kappa: &Mat2) -> f64 {
-        self.eta_s
-    }
-    fn max_viscosity(&self) -> f64 {
-        self.eta_s + self.eta_p
-    }
-    #[inline]
-    fn modulus(&self) -> f64 {
-        self.eta_p / self.lambda
-    }
-    fn relaxation_time(&self) -> f64 {
-        self.lambda
-    }
+    polymer_common!();
     #[inline]
     fn strain(&self, a: &Mat2) -> Mat2 {
         a - Mat2::identity()
@@ -61,6 +41,6 @@ impl Rheology for Giesekus {
     /// Exact solution of eq. (29b) (no frozen coefficients: `a_coef` is unused).
     #[inline]
     fn relaxation_step(&self, a: &Mat2, _a_coef: &Mat2, dt: f64) -> Mat2 {
-        giesekus_relaxation(a, self.alpha, dt / self.lambda)
+        giesekus_relaxation(a, self.alpha, dt / self.p.lambda)
     }
 }

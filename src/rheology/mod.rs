@@ -25,6 +25,28 @@
 //! Conformation integration: [`advance`] with [`ConformationMethod::Direct`] (explicit update of
 //! A) or [`ConformationMethod::Log`] (log-conformation, [`logconf`]).
 
+/// The trait methods every polymer model with a [`Polymer`] field `p` answers the same way:
+/// constant solvent viscosity beta eta0, modulus eta_p / lambda (King & Lind eqs. 3-9).
+macro_rules! polymer_common {
+    () => {
+        const ELASTIC: bool = true;
+        #[inline]
+        fn solvent_viscosity(&self, _kappa: &Mat2) -> f64 {
+            self.p.eta_s
+        }
+        fn max_viscosity(&self) -> f64 {
+            self.p.eta_s + self.p.eta_p
+        }
+        #[inline]
+        fn modulus(&self) -> f64 {
+            self.p.eta_p / self.p.lambda
+        }
+        fn relaxation_time(&self) -> f64 {
+            self.p.lambda
+        }
+    };
+}
+
 mod cross;
 mod evss;
 mod fene_cr;
@@ -48,6 +70,28 @@ pub use ptt_linear::PttLinear;
 
 use crate::config::{ConformationMethod, RheologyKind, SceneConfig};
 use crate::Mat2;
+
+/// Viscosities and relaxation time shared by every polymer model (King & Lind eqs. 3-9):
+/// solvent eta_s = beta eta0, polymer eta_p = (1 - beta) eta0, relaxation time lambda.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Polymer {
+    /// Solvent viscosity beta eta0 \[Pa s\].
+    pub eta_s: f64,
+    /// Polymer viscosity (1 - beta) eta0 \[Pa s\].
+    pub eta_p: f64,
+    /// Relaxation time \[s\].
+    pub lambda: f64,
+}
+
+impl Polymer {
+    pub fn new(eta0: f64, beta: f64, lambda: f64) -> Self {
+        Self {
+            eta_s: beta * eta0,
+            eta_p: (1.0 - beta) * eta0,
+            lambda,
+        }
+    }
+}
 
 /// A constitutive model. `ELASTIC = false` models (Newtonian, Cross) carry no conformation
 /// tensor: schemes test the constant, so the tensor work compiles away for them.

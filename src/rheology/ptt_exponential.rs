@@ -2,17 +2,13 @@
 //! f_R = exp[eps tr(A - I)](A - I), with `ptt_epsilon` = eps. eps = 0 is Oldroyd-B.
 
 use super::logconf::quasi_analytic_relaxation;
-use super::Rheology;
+use super::{Polymer, Rheology};
 use crate::Mat2;
 
 #[derive(Debug, Clone)]
 pub struct PttExponential {
-    /// Solvent viscosity beta eta0 [Pa s].
-    pub eta_s: f64,
-    /// Polymer viscosity (1 - beta) eta0 [Pa s].
-    pub eta_p: f64,
-    /// Relaxation time [s].
-    pub lambda: f64,
+    /// Solvent and polymer viscosities and relaxation time.
+    pub p: Polymer,
     /// Extensibility parameter eps.
     pub eps: f64,
 }
@@ -20,9 +16,7 @@ pub struct PttExponential {
 impl PttExponential {
     pub fn new(eta0: f64, beta: f64, lambda: f64, eps: f64) -> Self {
         Self {
-            eta_s: beta * eta0,
-            eta_p: (1.0 - beta) * eta0,
-            lambda,
+            p: Polymer::new(eta0, beta, lambda),
             eps,
         }
     }
@@ -35,21 +29,7 @@ impl PttExponential {
 }
 
 impl Rheology for PttExponential {
-    const ELASTIC: bool = true;
-    #[inline]
-    fn solvent_viscosity(&self, _kappa: &Mat2) -> f64 {
-        self.eta_s
-    }
-    fn max_viscosity(&self) -> f64 {
-        self.eta_s + self.eta_p
-    }
-    #[inline]
-    fn modulus(&self) -> f64 {
-        self.eta_p / self.lambda
-    }
-    fn relaxation_time(&self) -> f64 {
-        self.lambda
-    }
+    polymer_common!();
     #[inline]
     fn strain(&self, a: &Mat2) -> Mat2 {
         a - Mat2::identity()
@@ -61,6 +41,6 @@ impl Rheology for PttExponential {
     /// Eq. (32) with alpha_R = exp[eps tr(A - I)] frozen at `a_coef`, beta_R = 1.
     #[inline]
     fn relaxation_step(&self, a: &Mat2, a_coef: &Mat2, dt: f64) -> Mat2 {
-        quasi_analytic_relaxation(a, self.factor(a_coef), 1.0, dt / self.lambda)
+        quasi_analytic_relaxation(a, self.factor(a_coef), 1.0, dt / self.p.lambda)
     }
 }
