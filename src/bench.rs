@@ -676,11 +676,13 @@ fn bench_rheologies(out: &Path, quick: bool) -> Result<String, Box<dyn std::erro
     Ok(md)
 }
 
-/// The first local maximum of a curve (the last point if it never falls).
+/// The first local maximum of a curve once it has risen 1 % above its start (the last point
+/// if it never falls): the first spreading peak of W*, whatever happens before impact.
 pub fn first_peak(points: &[(f64, f64)]) -> (f64, f64) {
+    let start = points.first().map(|p| p.1).unwrap_or(0.0);
     points
         .windows(2)
-        .find(|w| w[1].1 < w[0].1)
+        .find(|w| w[0].1 > 1.01 * start && w[1].1 < w[0].1)
         .map(|w| w[0])
         .or_else(|| points.last().copied())
         .unwrap_or((0.0, 0.0))

@@ -170,7 +170,15 @@ pub fn particle_snapshots(
     let root = BitMapBackend::new(path, size).into_drawing_area();
     root.fill(&WHITE)?;
     let (title_area, body) = root.split_vertically(40);
-    let (lo, hi) = bounds(shots.iter().flat_map(|s| s.values.iter().copied()), false);
+    // The colour scale spans the values exactly (no axis padding), so the legend is true.
+    let (lo, hi) = shots
+        .iter()
+        .flat_map(|s| s.values.iter().copied())
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(v), b.max(v))
+        });
+    let (lo, hi) = if lo.is_finite() { (lo, hi) } else { (0.0, 1.0) };
     title_area.titled(
         &format!("particles coloured by {field}: {lo:.3} (blue) to {hi:.3} (red)"),
         ("sans-serif", 22),
