@@ -101,7 +101,10 @@ impl Simulation {
         let (_, elastic) = build_scheme(&eff, None)?;
         let (fluid, plate) = match cfg.scene {
             Scene::Drop => {
-                let (f, p) = crate::scene::drop::build(&eff, elastic);
+                let rest = dispatch_rheology!(AnyRheology::from_config(&eff)?, m => {
+                    elastic_of(&m).then(|| m.rest_conformation())
+                });
+                let (f, p) = crate::scene::drop::build(&eff, rest);
                 (f, Some(p))
             }
             Scene::EllipticalDrop => (elliptical_drop::build(&eff), None),

@@ -69,3 +69,32 @@ fn log_conformation_runs_the_drop_too() {
         }
     }
 }
+
+#[test]
+fn drops_start_at_the_models_rest_state() {
+    // FENE-P (King & Lind Table I form) rests at A = L^2/(L^2 + 2) I, not I: a drop started at I
+    // would carry a spurious isotropic stress. In free fall (kappa = 0) the rest state stays put.
+    for (r, mut c) in rheology_cases() {
+        c.particles_per_diameter = 12;
+        let mut sim = Simulation::new(c.clone()).unwrap();
+        let want = if r == RheologyKind::FeneP {
+            2.0 * c.fene_L2 / (c.fene_L2 + 2.0)
+        } else if matches!(r, RheologyKind::Newtonian | RheologyKind::Cross) {
+            0.0
+        } else {
+            2.0
+        };
+        assert!(
+            (sim.outputs().max_conformation_trace - want).abs() < 1e-12,
+            "{r}"
+        );
+        sim.advance_to(0.01).unwrap(); // still falling: the drop meets the plate at about 0.026 s
+        let o = sim.outputs();
+        assert_eq!(o.wall_force_normal, 0.0);
+        assert!(
+            (o.max_conformation_trace - want).abs() < 1e-9,
+            "{r}: {}",
+            o.max_conformation_trace
+        );
+    }
+}

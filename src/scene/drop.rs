@@ -9,7 +9,10 @@ use crate::{Mat2, Vec2};
 /// Build the fluid of a drop: lattice points (i + 1/2) dx, (j + 1/2) dx about the drop centre in
 /// the plate's frame (so the lattice lines up with the wall particles at any inclination, and the
 /// drop is symmetric about its centre) kept where they fall inside the disc.
-pub fn build(cfg: &SceneConfig, elastic: bool) -> (Fluid, Plate) {
+///
+/// `rest` is the model's conformation at rest (`Rheology::rest_conformation`), or None for models
+/// without a conformation tensor: the drop starts stress-free, as Fang's does.
+pub fn build(cfg: &SceneConfig, rest: Option<Mat2>) -> (Fluid, Plate) {
     let dx = cfg.dx();
     let plate = Plate::new(cfg.plate_inclination, dx);
     let centre = Vec2::new(0.0, cfg.drop_height);
@@ -31,8 +34,8 @@ pub fn build(cfg: &SceneConfig, elastic: bool) -> (Fluid, Plate) {
     let v0 = Vec2::new(0.0, -cfg.impact_velocity);
     fluid.v = vec![v0; fluid.x.len()];
     fluid.rho = vec![cfg.density; fluid.x.len()];
-    if elastic {
-        fluid.conf = vec![Mat2::identity(); fluid.x.len()];
+    if let Some(a0) = rest {
+        fluid.conf = vec![a0; fluid.x.len()];
     }
     (fluid, plate)
 }
