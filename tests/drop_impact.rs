@@ -2,8 +2,10 @@
 //! Fang 2006 section 4: D = 2 cm, V = 1 m/s, nu = 0.004 m2/s (Re = 5), c = 12.5 m/s; Oldroyd-B with
 //! lambda1 = 0.02 s, lambda2 = 0.002 s (We = 1, beta = 0.1).
 
+mod common;
+
+use common::{i, r, s, series};
 use viscosph::config::{SceneConfig, Value};
-use viscosph::diagnostics::Outputs;
 use viscosph::simulation::{SimError, Simulation};
 use viscosph::Vec2;
 
@@ -14,34 +16,6 @@ fn cfg(pairs: &[(&str, Value)]) -> SceneConfig {
     }
     c.validate().unwrap();
     c
-}
-
-fn r(x: f64) -> Value {
-    Value::Real(x)
-}
-fn i(x: i64) -> Value {
-    Value::Integer(x)
-}
-fn s(x: &str) -> Value {
-    Value::Text(x.into())
-}
-
-/// Outputs every `dt` up to `t_end`, or the breakdown.
-fn series(
-    c: &SceneConfig,
-    t_end: f64,
-    dt: f64,
-) -> (Vec<(f64, Outputs)>, Option<SimError>, Simulation) {
-    let mut sim = Simulation::new(c.clone()).unwrap();
-    let mut out = vec![(0.0, sim.outputs())];
-    let n = (t_end / dt).round() as usize;
-    for k in 1..=n {
-        if let Err(e) = sim.advance_to(k as f64 * dt) {
-            return (out, Some(e), sim);
-        }
-        out.push((sim.time(), sim.outputs()));
-    }
-    (out, None, sim)
 }
 
 const D: f64 = 0.02;

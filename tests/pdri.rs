@@ -9,6 +9,9 @@
 //! (particles_per_diameter = 20), where every assertion below holds with a margin; the example
 //! `ren_fig14` runs finer.
 
+mod common;
+
+use common::{i, r, s, series};
 use viscosph::config::{SceneConfig, Value};
 use viscosph::diagnostics::Outputs;
 use viscosph::simulation::{SimError, Simulation};
@@ -16,16 +19,6 @@ use viscosph::Vec2;
 
 const D: f64 = 0.02;
 const T_STAR: f64 = 0.02; // D / V
-
-fn r(x: f64) -> Value {
-    Value::Real(x)
-}
-fn i(x: i64) -> Value {
-    Value::Integer(x)
-}
-fn s(x: &str) -> Value {
-    Value::Text(x.into())
-}
 
 /// Ren's drop under PDRI-SPH, Cross fluid, with `pairs` on top.
 fn ren(pairs: &[(&str, Value)]) -> SceneConfig {
@@ -50,17 +43,6 @@ fn ren(pairs: &[(&str, Value)]) -> SceneConfig {
     }
     c.validate().unwrap();
     c
-}
-
-/// Outputs every `dt` up to `t_end`, or the breakdown, and the simulation where it stopped.
-fn series(
-    c: &SceneConfig,
-    t_end: f64,
-    dt: f64,
-) -> (Vec<(f64, Outputs)>, Option<SimError>, Simulation) {
-    let mut sim = Simulation::new(c.clone()).unwrap();
-    let (out, err) = sim.record(t_end, dt);
-    (out, err, sim)
 }
 
 #[test]
