@@ -57,6 +57,20 @@ pub const OUTPUTS: &[OutputSpec] = &[
     OutputSpec { name: "void_fraction", value_reference: 113, unit: "1", description: "Area of holes torn into the fluid over the fluid's area (tensile-instability fracture measure)" },
 ];
 
+/// `values` and `set_values` from one list of the fields, in the order of [`OUTPUTS`].
+macro_rules! output_fields {
+    ($($f:ident),+ $(,)?) => {
+        /// Values in the order of [`OUTPUTS`].
+        pub fn values(&self) -> [f64; 13] {
+            [$(self.$f),+]
+        }
+        /// Set every value from an array in the order of [`OUTPUTS`].
+        pub fn set_values(&mut self, v: [f64; 13]) {
+            [$(self.$f),+] = v;
+        }
+    };
+}
+
 /// Values of every output at one time.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct Outputs {
@@ -76,43 +90,21 @@ pub struct Outputs {
 }
 
 impl Outputs {
-    /// Values in the order of [`OUTPUTS`].
-    pub fn values(&self) -> [f64; 13] {
-        [
-            self.drop_width,
-            self.drop_height,
-            self.wall_force_normal,
-            self.wall_force_tangential,
-            self.spread_front,
-            self.spread_back,
-            self.kinetic_energy,
-            self.volume_error,
-            self.max_conformation_trace,
-            self.min_conformation_det,
-            self.time_step,
-            self.particle_count,
-            self.void_fraction,
-        ]
-    }
-
-    /// Set every value from an array in the order of [`OUTPUTS`].
-    pub fn set_values(&mut self, v: [f64; 13]) {
-        [
-            self.drop_width,
-            self.drop_height,
-            self.wall_force_normal,
-            self.wall_force_tangential,
-            self.spread_front,
-            self.spread_back,
-            self.kinetic_energy,
-            self.volume_error,
-            self.max_conformation_trace,
-            self.min_conformation_det,
-            self.time_step,
-            self.particle_count,
-            self.void_fraction,
-        ] = v;
-    }
+    output_fields!(
+        drop_width,
+        drop_height,
+        wall_force_normal,
+        wall_force_tangential,
+        spread_front,
+        spread_back,
+        kinetic_energy,
+        volume_error,
+        max_conformation_trace,
+        min_conformation_det,
+        time_step,
+        particle_count,
+        void_fraction,
+    );
 
     /// Value of an output by name.
     pub fn get(&self, name: &str) -> Option<f64> {

@@ -6,28 +6,25 @@ fn viscosph() -> Command {
     Command::new(env!("CARGO_BIN_EXE_viscosph"))
 }
 
-#[test]
-fn unknown_key_and_bad_value_are_named() {
+/// Run a scene file with `text`; it must be refused (exit code 2). Returns stderr.
+fn refused(text: &str) -> String {
     let dir = tempfile::tempdir().unwrap();
     let scene = dir.path().join("bad.toml");
-    std::fs::write(&scene, "drop_diametr = 0.02\n").unwrap();
+    std::fs::write(&scene, text).unwrap();
     let out = viscosph()
         .args(["run", scene.to_str().unwrap(), "--out"])
         .arg(dir.path().join("o"))
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("drop_diametr"), "{err}");
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
 
-    std::fs::write(&scene, "plate_inclination = 95.0\n").unwrap();
-    let out = viscosph()
-        .args(["run", scene.to_str().unwrap(), "--out"])
-        .arg(dir.path().join("o"))
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&out.stderr);
+#[test]
+fn unknown_key_and_bad_value_are_named() {
+    let err = refused("drop_diametr = 0.02\n");
+    assert!(err.contains("drop_diametr"), "{err}");
+    let err = refused("plate_inclination = 95.0\n");
     assert!(
         err.contains("plate_inclination") && err.contains("95") && err.contains("[0, 90)"),
         "{err}"

@@ -50,7 +50,7 @@ impl Cross {
 }
 
 impl Rheology for Cross {
-    const ELASTIC: bool = false;
+    inelastic_common!();
     #[inline]
     fn solvent_viscosity(&self, kappa: &Mat2) -> f64 {
         self.viscosity_at(shear_rate(kappa))
@@ -58,23 +58,5 @@ impl Rheology for Cross {
     /// mu lies between eta_inf and eta0 (eq. 6 is monotone in gamma_dot).
     fn max_viscosity(&self) -> f64 {
         self.eta0.max(self.eta_inf)
-    }
-    fn modulus(&self) -> f64 {
-        0.0
-    }
-    fn relaxation_time(&self) -> f64 {
-        f64::INFINITY
-    }
-    #[inline]
-    fn strain(&self, _a: &Mat2) -> Mat2 {
-        Mat2::zeros()
-    }
-    #[inline]
-    fn relax(&self, _a: &Mat2) -> Mat2 {
-        Mat2::zeros()
-    }
-    #[inline]
-    fn relaxation_step(&self, a: &Mat2, _a_coef: &Mat2, _dt: f64) -> Mat2 {
-        *a
     }
 }

@@ -47,6 +47,31 @@ macro_rules! polymer_common {
     };
 }
 
+/// The trait methods of a model without a polymer (no conformation tensor, no stress from it).
+macro_rules! inelastic_common {
+    () => {
+        const ELASTIC: bool = false;
+        fn modulus(&self) -> f64 {
+            0.0
+        }
+        fn relaxation_time(&self) -> f64 {
+            f64::INFINITY
+        }
+        #[inline]
+        fn strain(&self, _a: &Mat2) -> Mat2 {
+            Mat2::zeros()
+        }
+        #[inline]
+        fn relax(&self, _a: &Mat2) -> Mat2 {
+            Mat2::zeros()
+        }
+        #[inline]
+        fn relaxation_step(&self, a: &Mat2, _a_coef: &Mat2, _dt: f64) -> Mat2 {
+            *a
+        }
+    };
+}
+
 mod cross;
 mod evss;
 mod fene_cr;
