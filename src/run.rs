@@ -54,6 +54,8 @@ pub struct RunResult {
     pub wall_seconds: f64,
     pub steps: u64,
     pub particles: usize,
+    /// Particles put back above the plate by the impenetrability condition of Fang's walls.
+    pub wall_reflections: u64,
     /// For the elliptical drop: the semi-axes at the end against the exact ones.
     pub elliptical: Option<crate::scene::elliptical_drop::SemiAxes>,
 }
@@ -125,7 +127,8 @@ fn write_vtk(dir: &Path, k: usize, sim: &Simulation) -> std::io::Result<()> {
 
 /// Run `cfg` to `opts.t_end`, recording outputs every `opts.output_interval`; with an output
 /// directory, write `timeseries.csv`, VTK snapshots, `width_height.png` and `particles.png`.
-/// A numerical breakdown stops the run and is returned in the result (files are still written).
+/// A numerical breakdown stops the run and is returned in the result (files are still written,
+/// with the last good state as the final snapshot).
 pub fn run(cfg: &SceneConfig, opts: &RunOptions) -> Result<RunResult, Box<dyn std::error::Error>> {
     let mut sim = Simulation::new(cfg.clone())?;
     let ts = time_scale(cfg);
@@ -156,6 +159,17 @@ pub fn run(cfg: &SceneConfig, opts: &RunOptions) -> Result<RunResult, Box<dyn st
     for k in 1..=n_out {
         let t = (k as f64 * opts.output_interval).min(opts.t_end);
         if let Err(e) = sim.advance_to(t) {
+            // The last good state, where the cause can be looked at: one more panel of the
+            // particle PNG and one more VTK snapshot.
+            let mut shot = snapshot(&sim, ts);
+            shot.title = format!(
+                "t* = {:.3}, last state before the breakdown",
+                sim.state().time / ts
+            );
+            shots.push(shot);
+            if let Some(d) = &opts.out_dir {
+                write_vtk(d, shots.len() - 1, &sim)?;
+            }
             error = Some(e);
             break;
         }
@@ -185,6 +199,7 @@ pub fn run(cfg: &SceneConfig, opts: &RunOptions) -> Result<RunResult, Box<dyn st
         wall_seconds: start.elapsed().as_secs_f64(),
         steps: sim.state().step,
         particles: sim.state().fluid.len(),
+        wall_reflections: sim.state().wall_reflections,
         elliptical: sim.elliptical_semi_axes(),
     };
     if let Some(d) = &opts.out_dir {

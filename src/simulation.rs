@@ -44,6 +44,9 @@ pub struct State {
     pub last_dt: f64,
     /// Void fraction after the last step (see [`crate::health`]).
     pub void_fraction: f64,
+    /// How many times a fluid particle was put back above the plate by the impenetrability
+    /// condition of Fang's walls (see [`crate::scheme::wcsph`]).
+    pub wall_reflections: u64,
 }
 
 /// A running simulation.
@@ -124,6 +127,7 @@ impl Simulation {
             wall_impulse: Vec2::zeros(),
             last_dt: 0.0,
             void_fraction: 0.0,
+            wall_reflections: 0,
         };
         Ok(Self {
             cfg,

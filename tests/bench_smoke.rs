@@ -44,7 +44,7 @@ fn drop_throughput_rheologies_and_report() {
 
     bench(&["drop"], out);
     let (h, rows) = csv(&out.join("drop.csv"));
-    assert_eq!(h[0], "case");
+    assert_eq!((h[0].as_str(), h[7].as_str()), ("case", "wall_reflections"));
     assert_eq!(rows.len(), 6, "two cases at three resolutions");
     for r in &rows {
         let tp: f64 = r[5].parse().unwrap();

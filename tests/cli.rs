@@ -116,6 +116,38 @@ fn run_writes_timeseries_snapshots_and_plots() {
 }
 
 #[test]
+fn a_breakdown_keeps_its_files_and_the_last_good_state() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("s.toml");
+    // Sound far too slow for a 1 m/s impact: the density check stops the run after impact.
+    std::fs::write(
+        &scene,
+        "particles_per_diameter = 12\ninitial_drop_height = 0.013\nsound_speed = 2.0\n",
+    )
+    .unwrap();
+    let out_dir = dir.path().join("out");
+    let out = viscosph()
+        .args(["run", scene.to_str().unwrap(), "--t-end", "0.02"])
+        .args(["--output-interval", "0.002", "--out"])
+        .arg(&out_dir)
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("numerical breakdown") && stderr.contains("too fast for the sound speed"),
+        "{stderr}"
+    );
+    let (_, rows) = viscosph::io::csv::read_timeseries(&out_dir.join("timeseries.csv")).unwrap();
+    assert!(rows.len() >= 2 && rows.len() < 11, "{} rows", rows.len());
+    // One snapshot per output row, then the last good state after them.
+    let vtk = |k: usize| out_dir.join(format!("particles_{k:04}.vtk"));
+    assert!(vtk(rows.len() - 1).exists() && vtk(rows.len()).exists());
+    assert!(!vtk(rows.len() + 1).exists());
+    assert!(std::fs::read(out_dir.join("particles.png")).unwrap().len() > 10_000);
+}
+
+#[test]
 fn example_scenes_are_valid() {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes");
     let mut n = 0;

@@ -86,6 +86,13 @@ fn main() -> ExitCode {
                         r.throughput(),
                         out.display()
                     );
+                    if r.wall_reflections > 0 {
+                        println!(
+                            "{} times a particle was put back above the plate (Fang's walls under \
+                             tension; see the wcsph scheme's documentation)",
+                            r.wall_reflections
+                        );
+                    }
                     if let Some(e) = r.elliptical {
                         println!(
                             "semi-major axis at t = {:.6} s: computed {:.6} m, exact {:.6} m, error {:+.3} %; \
