@@ -6,6 +6,20 @@ fn viscosph() -> Command {
     Command::new(env!("CARGO_BIN_EXE_viscosph"))
 }
 
+/// Run a scene file with `text` to t = 20 ms with an output every 2 ms, into `dir`/out.
+fn run_20ms(dir: &std::path::Path, text: &str) -> (std::process::Output, std::path::PathBuf) {
+    let scene = dir.join("s.toml");
+    std::fs::write(&scene, text).unwrap();
+    let out_dir = dir.join("out");
+    let out = viscosph()
+        .args(["run", scene.to_str().unwrap(), "--t-end", "0.02"])
+        .args(["--output-interval", "0.002", "--out"])
+        .arg(&out_dir)
+        .output()
+        .unwrap();
+    (out, out_dir)
+}
+
 /// Run a scene file with `text`; it must be refused (exit code 2). Returns stderr.
 fn refused(text: &str) -> String {
     let dir = tempfile::tempdir().unwrap();
@@ -50,27 +64,11 @@ fn default_scene_round_trips() {
 #[test]
 fn run_writes_timeseries_snapshots_and_plots() {
     let dir = tempfile::tempdir().unwrap();
-    let scene = dir.path().join("s.toml");
     // Missing keys take their defaults: only the resolution and the drop's start are set.
-    std::fs::write(
-        &scene,
+    let (out, out_dir) = run_20ms(
+        dir.path(),
         "particles_per_diameter = 12\ninitial_drop_height = 0.013\n",
-    )
-    .unwrap();
-    let out_dir = dir.path().join("out");
-    let out = viscosph()
-        .args([
-            "run",
-            scene.to_str().unwrap(),
-            "--t-end",
-            "0.02",
-            "--output-interval",
-            "0.002",
-            "--out",
-        ])
-        .arg(&out_dir)
-        .output()
-        .unwrap();
+    );
     assert!(
         out.status.success(),
         "{}",
@@ -118,20 +116,11 @@ fn run_writes_timeseries_snapshots_and_plots() {
 #[test]
 fn a_breakdown_keeps_its_files_and_the_last_good_state() {
     let dir = tempfile::tempdir().unwrap();
-    let scene = dir.path().join("s.toml");
     // Sound far too slow for a 1 m/s impact: the density check stops the run after impact.
-    std::fs::write(
-        &scene,
+    let (out, out_dir) = run_20ms(
+        dir.path(),
         "particles_per_diameter = 12\ninitial_drop_height = 0.013\nsound_speed = 2.0\n",
-    )
-    .unwrap();
-    let out_dir = dir.path().join("out");
-    let out = viscosph()
-        .args(["run", scene.to_str().unwrap(), "--t-end", "0.02"])
-        .args(["--output-interval", "0.002", "--out"])
-        .arg(&out_dir)
-        .output()
-        .unwrap();
+    );
     assert!(!out.status.success());
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(
