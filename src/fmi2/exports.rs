@@ -661,27 +661,32 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
     })
 }
 
+/// An entry point the FMU has but does not support: it reports why through the logger and
+/// returns fmi2Error (through [`guarded`], so it too never panics across the boundary).
+macro_rules! unsupported {
+    ($name:ident($($arg:ident: $ty:ty),* $(,)?), $why:expr $(,)?) => {
+        #[no_mangle]
+        pub unsafe extern "C" fn $name(c: fmi2Component, $($arg: $ty),*) -> fmi2Status {
+            guarded(c, stringify!($name), |i| i.unsupported(stringify!($name), $why))
+        }
+    };
+}
+
 // ---------------------------------------------------------------------------------------------
 // FMI 2.0 section 2.1.9: partial derivatives (not provided)
 // ---------------------------------------------------------------------------------------------
 
-#[no_mangle]
-pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
-    c: fmi2Component,
-    _vUnknown_ref: *const fmi2ValueReference,
-    _nUnknown: usize,
-    _vKnown_ref: *const fmi2ValueReference,
-    _nKnown: usize,
-    _dvKnown: *const fmi2Real,
-    _dvUnknown: *mut fmi2Real,
-) -> fmi2Status {
-    guarded(c, "fmi2GetDirectionalDerivative", |inst| {
-        inst.unsupported(
-            "fmi2GetDirectionalDerivative",
-            "directional derivatives are not provided (providesDirectionalDerivative = false)",
-        )
-    })
-}
+unsupported!(
+    fmi2GetDirectionalDerivative(
+        _vUnknown_ref: *const fmi2ValueReference,
+        _nUnknown: usize,
+        _vKnown_ref: *const fmi2ValueReference,
+        _nKnown: usize,
+        _dvKnown: *const fmi2Real,
+        _dvUnknown: *mut fmi2Real,
+    ),
+    "directional derivatives are not provided (providesDirectionalDerivative = false)"
+);
 
 // ---------------------------------------------------------------------------------------------
 // FMI 2.0 chapter 3: Model Exchange (not supported)
@@ -689,137 +694,56 @@ pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
 
 const NO_ME: &str = "Model Exchange is not supported: ViscoSPH is a Co-Simulation FMU";
 
-#[no_mangle]
-pub unsafe extern "C" fn fmi2EnterEventMode(c: fmi2Component) -> fmi2Status {
-    guarded(c, "fmi2EnterEventMode", |i| {
-        i.unsupported("fmi2EnterEventMode", NO_ME)
-    })
-}
+unsupported!(fmi2EnterEventMode(), NO_ME);
 
-#[no_mangle]
-pub unsafe extern "C" fn fmi2NewDiscreteStates(
-    c: fmi2Component,
-    _fmi2eventInfo: *mut fmi2EventInfo,
-) -> fmi2Status {
-    guarded(c, "fmi2NewDiscreteStates", |i| {
-        i.unsupported("fmi2NewDiscreteStates", NO_ME)
-    })
-}
+unsupported!(fmi2NewDiscreteStates(_fmi2eventInfo: *mut fmi2EventInfo), NO_ME);
 
-#[no_mangle]
-pub unsafe extern "C" fn fmi2EnterContinuousTimeMode(c: fmi2Component) -> fmi2Status {
-    guarded(c, "fmi2EnterContinuousTimeMode", |i| {
-        i.unsupported("fmi2EnterContinuousTimeMode", NO_ME)
-    })
-}
+unsupported!(fmi2EnterContinuousTimeMode(), NO_ME);
 
-#[no_mangle]
-pub unsafe extern "C" fn fmi2CompletedIntegratorStep(
-    c: fmi2Component,
-    _noSetFMUStatePriorToCurrentPoint: fmi2Boolean,
-    _enterEventMode: *mut fmi2Boolean,
-    _terminateSimulation: *mut fmi2Boolean,
-) -> fmi2Status {
-    guarded(c, "fmi2CompletedIntegratorStep", |i| {
-        i.unsupported("fmi2CompletedIntegratorStep", NO_ME)
-    })
-}
+unsupported!(
+    fmi2CompletedIntegratorStep(
+        _noSetFMUStatePriorToCurrentPoint: fmi2Boolean,
+        _enterEventMode: *mut fmi2Boolean,
+        _terminateSimulation: *mut fmi2Boolean,
+    ),
+    NO_ME
+);
 
-#[no_mangle]
-pub unsafe extern "C" fn fmi2SetTime(c: fmi2Component, _time: fmi2Real) -> fmi2Status {
-    guarded(c, "fmi2SetTime", |i| i.unsupported("fmi2SetTime", NO_ME))
-}
+unsupported!(fmi2SetTime(_time: fmi2Real), NO_ME);
 
-#[no_mangle]
-pub unsafe extern "C" fn fmi2SetContinuousStates(
-    c: fmi2Component,
-    _x: *const fmi2Real,
-    _nx: usize,
-) -> fmi2Status {
-    guarded(c, "fmi2SetContinuousStates", |i| {
-        i.unsupported("fmi2SetContinuousStates", NO_ME)
-    })
-}
+unsupported!(fmi2SetContinuousStates(_x: *const fmi2Real, _nx: usize), NO_ME);
 
-#[no_mangle]
-pub unsafe extern "C" fn fmi2GetDerivatives(
-    c: fmi2Component,
-    _derivatives: *mut fmi2Real,
-    _nx: usize,
-) -> fmi2Status {
-    guarded(c, "fmi2GetDerivatives", |i| {
-        i.unsupported("fmi2GetDerivatives", NO_ME)
-    })
-}
+unsupported!(fmi2GetDerivatives(_derivatives: *mut fmi2Real, _nx: usize), NO_ME);
 
-#[no_mangle]
-pub unsafe extern "C" fn fmi2GetEventIndicators(
-    c: fmi2Component,
-    _eventIndicators: *mut fmi2Real,
-    _ni: usize,
-) -> fmi2Status {
-    guarded(c, "fmi2GetEventIndicators", |i| {
-        i.unsupported("fmi2GetEventIndicators", NO_ME)
-    })
-}
+unsupported!(fmi2GetEventIndicators(_eventIndicators: *mut fmi2Real, _ni: usize), NO_ME);
 
-#[no_mangle]
-pub unsafe extern "C" fn fmi2GetContinuousStates(
-    c: fmi2Component,
-    _x: *mut fmi2Real,
-    _nx: usize,
-) -> fmi2Status {
-    guarded(c, "fmi2GetContinuousStates", |i| {
-        i.unsupported("fmi2GetContinuousStates", NO_ME)
-    })
-}
+unsupported!(fmi2GetContinuousStates(_x: *mut fmi2Real, _nx: usize), NO_ME);
 
-#[no_mangle]
-pub unsafe extern "C" fn fmi2GetNominalsOfContinuousStates(
-    c: fmi2Component,
-    _x_nominal: *mut fmi2Real,
-    _nx: usize,
-) -> fmi2Status {
-    guarded(c, "fmi2GetNominalsOfContinuousStates", |i| {
-        i.unsupported("fmi2GetNominalsOfContinuousStates", NO_ME)
-    })
-}
+unsupported!(fmi2GetNominalsOfContinuousStates(_x_nominal: *mut fmi2Real, _nx: usize), NO_ME);
 
 // ---------------------------------------------------------------------------------------------
 // FMI 2.0 chapter 4: Co-Simulation
 // ---------------------------------------------------------------------------------------------
 
-#[no_mangle]
-pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
-    c: fmi2Component,
-    _vr: *const fmi2ValueReference,
-    _nvr: usize,
-    _order: *const fmi2Integer,
-    _value: *const fmi2Real,
-) -> fmi2Status {
-    guarded(c, "fmi2SetRealInputDerivatives", |i| {
-        i.unsupported(
-            "fmi2SetRealInputDerivatives",
-            "the FMU has no inputs and cannot interpolate them (canInterpolateInputs = false)",
-        )
-    })
-}
+unsupported!(
+    fmi2SetRealInputDerivatives(
+        _vr: *const fmi2ValueReference,
+        _nvr: usize,
+        _order: *const fmi2Integer,
+        _value: *const fmi2Real,
+    ),
+    "the FMU has no inputs and cannot interpolate them (canInterpolateInputs = false)"
+);
 
-#[no_mangle]
-pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(
-    c: fmi2Component,
-    _vr: *const fmi2ValueReference,
-    _nvr: usize,
-    _order: *const fmi2Integer,
-    _value: *mut fmi2Real,
-) -> fmi2Status {
-    guarded(c, "fmi2GetRealOutputDerivatives", |i| {
-        i.unsupported(
-            "fmi2GetRealOutputDerivatives",
-            "output derivatives are not provided (maxOutputDerivativeOrder = 0)",
-        )
-    })
-}
+unsupported!(
+    fmi2GetRealOutputDerivatives(
+        _vr: *const fmi2ValueReference,
+        _nvr: usize,
+        _order: *const fmi2Integer,
+        _value: *mut fmi2Real,
+    ),
+    "output derivatives are not provided (maxOutputDerivativeOrder = 0)"
+);
 
 /// `fmi2DoStep` (FMI 2.0 section 4.2.2); `noSetFMUStatePriorToCurrentPoint` is not needed
 /// because a saved state is a complete copy.
@@ -835,15 +759,10 @@ pub unsafe extern "C" fn fmi2DoStep(
     })
 }
 
-#[no_mangle]
-pub unsafe extern "C" fn fmi2CancelStep(c: fmi2Component) -> fmi2Status {
-    guarded(c, "fmi2CancelStep", |i| {
-        i.unsupported(
-            "fmi2CancelStep",
-            "no step is in progress: fmi2DoStep is synchronous (canRunAsynchronuously = false)",
-        )
-    })
-}
+unsupported!(
+    fmi2CancelStep(),
+    "no step is in progress: fmi2DoStep is synchronous (canRunAsynchronuously = false)"
+);
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2GetStatus(

@@ -47,6 +47,31 @@ macro_rules! polymer_common {
     };
 }
 
+/// The constitutive functions of the Phan-Thien-Tanner family (King & Lind 2021 Table I):
+/// f_S = A - I, f_R = F(A) (A - I) with the model's scalar `factor` F, and the quasi-analytic
+/// relaxation step of eq. (32) with alpha_R = F frozen at `a_coef`, beta_R = 1.
+macro_rules! ptt_common {
+    () => {
+        #[inline]
+        fn strain(&self, a: &Mat2) -> Mat2 {
+            a - Mat2::identity()
+        }
+        #[inline]
+        fn relax(&self, a: &Mat2) -> Mat2 {
+            (a - Mat2::identity()) * self.factor(a)
+        }
+        #[inline]
+        fn relaxation_step(&self, a: &Mat2, a_coef: &Mat2, dt: f64) -> Mat2 {
+            $crate::rheology::logconf::quasi_analytic_relaxation(
+                a,
+                self.factor(a_coef),
+                1.0,
+                dt / self.p.lambda,
+            )
+        }
+    };
+}
+
 /// The trait methods of a model without a polymer (no conformation tensor, no stress from it).
 macro_rules! inelastic_common {
     () => {

@@ -1,7 +1,6 @@
 //! Linear Phan-Thien-Tanner (King & Lind 2021 Table I): f_S = A - I,
 //! f_R = [1 + eps tr(A - I)](A - I), with `ptt_epsilon` = eps. eps = 0 is Oldroyd-B.
 
-use super::logconf::quasi_analytic_relaxation;
 use super::{Polymer, Rheology};
 use crate::Mat2;
 
@@ -30,17 +29,5 @@ impl PttLinear {
 
 impl Rheology for PttLinear {
     polymer_common!();
-    #[inline]
-    fn strain(&self, a: &Mat2) -> Mat2 {
-        a - Mat2::identity()
-    }
-    #[inline]
-    fn relax(&self, a: &Mat2) -> Mat2 {
-        (a - Mat2::identity()) * self.factor(a)
-    }
-    /// Eq. (32) with alpha_R = 1 + eps tr(A - I) frozen at `a_coef`, beta_R = 1.
-    #[inline]
-    fn relaxation_step(&self, a: &Mat2, a_coef: &Mat2, dt: f64) -> Mat2 {
-        quasi_analytic_relaxation(a, self.factor(a_coef), 1.0, dt / self.p.lambda)
-    }
+    ptt_common!();
 }
