@@ -333,149 +333,66 @@ pub unsafe extern "C" fn fmi2Reset(c: fmi2Component) -> fmi2Status {
 // FMI 2.0 section 2.1.7: getting and setting variable values
 // ---------------------------------------------------------------------------------------------
 
-#[no_mangle]
-pub unsafe extern "C" fn fmi2GetReal(
-    c: fmi2Component,
-    vr: *const fmi2ValueReference,
-    nvr: usize,
-    value: *mut fmi2Real,
-) -> fmi2Status {
-    guarded(c, "fmi2GetReal", |inst| {
-        let Some(vrs) = slice(vr, nvr) else {
-            return null_arg(inst, "fmi2GetReal", "vr[]");
-        };
-        let Some(values) = slice_mut(value, nvr) else {
-            return null_arg(inst, "fmi2GetReal", "value[]");
-        };
-        inst.get_real(vrs, values)
-    })
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi2GetInteger(
-    c: fmi2Component,
-    vr: *const fmi2ValueReference,
-    nvr: usize,
-    value: *mut fmi2Integer,
-) -> fmi2Status {
-    guarded(c, "fmi2GetInteger", |inst| {
-        let Some(vrs) = slice(vr, nvr) else {
-            return null_arg(inst, "fmi2GetInteger", "vr[]");
-        };
-        let Some(values) = slice_mut(value, nvr) else {
-            return null_arg(inst, "fmi2GetInteger", "value[]");
-        };
-        inst.get_integer(vrs, values)
-    })
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi2GetBoolean(
-    c: fmi2Component,
-    vr: *const fmi2ValueReference,
-    nvr: usize,
-    value: *mut fmi2Boolean,
-) -> fmi2Status {
-    guarded(c, "fmi2GetBoolean", |inst| {
-        let Some(vrs) = slice(vr, nvr) else {
-            return null_arg(inst, "fmi2GetBoolean", "vr[]");
-        };
-        if nvr > 0 && value.is_null() {
-            return null_arg(inst, "fmi2GetBoolean", "value[]");
+/// An fmi2Get*/fmi2Set* array accessor (FMI 2.0 section 2.1.7): checks that `vr[]` and
+/// `value[]` are not NULL when `nvr > 0`, names the NULL argument otherwise, and hands both as
+/// slices to `$body`.
+macro_rules! array_accessor {
+    ($name:ident, $value:ty, $as_slice:ident, |$inst:ident, $vrs:ident, $values:pat_param| $body:expr) => {
+        #[no_mangle]
+        pub unsafe extern "C" fn $name(
+            c: fmi2Component,
+            vr: *const fmi2ValueReference,
+            nvr: usize,
+            value: $value,
+        ) -> fmi2Status {
+            guarded(c, stringify!($name), |$inst| {
+                let Some($vrs) = slice(vr, nvr) else {
+                    return null_arg($inst, stringify!($name), "vr[]");
+                };
+                let Some($values) = $as_slice(value, nvr) else {
+                    return null_arg($inst, stringify!($name), "value[]");
+                };
+                $body
+            })
         }
-        inst.get_none("fmi2GetBoolean", vrs)
-    })
+    };
 }
 
-#[no_mangle]
-pub unsafe extern "C" fn fmi2GetString(
-    c: fmi2Component,
-    vr: *const fmi2ValueReference,
-    nvr: usize,
-    value: *mut fmi2String,
-) -> fmi2Status {
-    guarded(c, "fmi2GetString", |inst| {
-        let Some(vrs) = slice(vr, nvr) else {
-            return null_arg(inst, "fmi2GetString", "vr[]");
-        };
-        if nvr > 0 && value.is_null() {
-            return null_arg(inst, "fmi2GetString", "value[]");
-        }
-        inst.get_none("fmi2GetString", vrs)
-    })
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi2SetReal(
-    c: fmi2Component,
-    vr: *const fmi2ValueReference,
-    nvr: usize,
-    value: *const fmi2Real,
-) -> fmi2Status {
-    guarded(c, "fmi2SetReal", |inst| {
-        let Some(vrs) = slice(vr, nvr) else {
-            return null_arg(inst, "fmi2SetReal", "vr[]");
-        };
-        let Some(values) = slice(value, nvr) else {
-            return null_arg(inst, "fmi2SetReal", "value[]");
-        };
-        inst.set_real(vrs, values)
-    })
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi2SetInteger(
-    c: fmi2Component,
-    vr: *const fmi2ValueReference,
-    nvr: usize,
-    value: *const fmi2Integer,
-) -> fmi2Status {
-    guarded(c, "fmi2SetInteger", |inst| {
-        let Some(vrs) = slice(vr, nvr) else {
-            return null_arg(inst, "fmi2SetInteger", "vr[]");
-        };
-        let Some(values) = slice(value, nvr) else {
-            return null_arg(inst, "fmi2SetInteger", "value[]");
-        };
-        inst.set_integer(vrs, values)
-    })
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi2SetBoolean(
-    c: fmi2Component,
-    vr: *const fmi2ValueReference,
-    nvr: usize,
-    value: *const fmi2Boolean,
-) -> fmi2Status {
-    guarded(c, "fmi2SetBoolean", |inst| {
-        let Some(vrs) = slice(vr, nvr) else {
-            return null_arg(inst, "fmi2SetBoolean", "vr[]");
-        };
-        if nvr > 0 && value.is_null() {
-            return null_arg(inst, "fmi2SetBoolean", "value[]");
-        }
-        inst.set_none("fmi2SetBoolean", vrs)
-    })
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi2SetString(
-    c: fmi2Component,
-    vr: *const fmi2ValueReference,
-    nvr: usize,
-    value: *const fmi2String,
-) -> fmi2Status {
-    guarded(c, "fmi2SetString", |inst| {
-        let Some(vrs) = slice(vr, nvr) else {
-            return null_arg(inst, "fmi2SetString", "vr[]");
-        };
-        if nvr > 0 && value.is_null() {
-            return null_arg(inst, "fmi2SetString", "value[]");
-        }
-        inst.set_none("fmi2SetString", vrs)
-    })
-}
+array_accessor!(
+    fmi2GetReal,
+    *mut fmi2Real,
+    slice_mut,
+    |inst, vrs, values| inst.get_real(vrs, values)
+);
+array_accessor!(
+    fmi2GetInteger,
+    *mut fmi2Integer,
+    slice_mut,
+    |inst, vrs, values| inst.get_integer(vrs, values)
+);
+array_accessor!(
+    fmi2GetBoolean,
+    *mut fmi2Boolean,
+    slice_mut,
+    |inst, vrs, _| inst.get_none("fmi2GetBoolean", vrs)
+);
+array_accessor!(fmi2GetString, *mut fmi2String, slice_mut, |inst, vrs, _| {
+    inst.get_none("fmi2GetString", vrs)
+});
+array_accessor!(fmi2SetReal, *const fmi2Real, slice, |inst, vrs, values| {
+    inst.set_real(vrs, values)
+});
+array_accessor!(
+    fmi2SetInteger,
+    *const fmi2Integer,
+    slice,
+    |inst, vrs, values| inst.set_integer(vrs, values)
+);
+array_accessor!(fmi2SetBoolean, *const fmi2Boolean, slice, |inst, vrs, _| {
+    inst.set_none("fmi2SetBoolean", vrs)
+});
+array_accessor!(fmi2SetString, *const fmi2String, slice, |inst, vrs, _| inst
+    .set_none("fmi2SetString", vrs));
 
 // ---------------------------------------------------------------------------------------------
 // FMI 2.0 section 2.1.8: getting and setting the complete FMU state
