@@ -576,8 +576,40 @@ impl Instance {
     /// variable, the value and the allowed range. All or nothing: a refused value leaves the
     /// parameters as they were before the call.
     pub fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> Status {
-        self.call(
+        self.set_parameters(
             "fmi2SetReal",
+            vrs,
+            values,
+            |k| matches!(k, Kind::Real { .. }),
+            Value::Real,
+        )
+    }
+
+    /// `fmi2SetInteger`, for Integer and Enumeration parameters (enumerations by their 1-based
+    /// item index, FMI 2.0 section 2.2.3). Same checks as [`Instance::set_real`].
+    pub fn set_integer(&mut self, vrs: &[u32], values: &[i32]) -> Status {
+        self.set_parameters(
+            "fmi2SetInteger",
+            vrs,
+            values,
+            |k| matches!(k, Kind::Integer { .. } | Kind::Enumeration { .. }),
+            |i| Value::Integer(i64::from(i)),
+        )
+    }
+
+    /// The body of `fmi2SetReal` and `fmi2SetInteger`: parameters whose kind `accepts` the
+    /// call's type take `value(x)` through [`SceneConfig::set`], on a copy that replaces the
+    /// configuration only when every value was accepted; outputs and other types are refused.
+    fn set_parameters<T: Copy + std::fmt::Debug>(
+        &mut self,
+        func: &'static str,
+        vrs: &[u32],
+        values: &[T],
+        accepts: impl Fn(&Kind) -> bool,
+        value: impl Fn(T) -> Value,
+    ) -> Status {
+        self.call(
+            func,
             mask::SET,
             || format!("vr={vrs:?}, value={values:?}"),
             |s| {
@@ -585,46 +617,9 @@ impl Instance {
                 for (&vr, &x) in vrs.iter().zip(values) {
                     let var = lookup(vr).ok_or_else(|| unknown_vr(vr))?;
                     match &var {
-                        Var::Param(p) if matches!(p.kind, Kind::Real { .. }) => cfg
-                            .set(p.name, Value::Real(x))
+                        Var::Param(p) if accepts(&p.kind) => cfg
+                            .set(p.name, value(x))
                             .map_err(|e| Fail::Error(e.to_string()))?,
-                        Var::Output(i) => {
-                            return error(format!(
-                                "'{}' (valueReference {vr}) is an output and cannot be set",
-                                OUTPUTS[*i].name
-                            ))
-                        }
-                        _ => return Err(wrong_type(vr, &var, "Set")),
-                    }
-                }
-                s.cfg = cfg;
-                s.preview = None;
-                Ok(Status::Ok)
-            },
-        )
-    }
-
-    /// `fmi2SetInteger`, for Integer and Enumeration parameters (enumerations by their 1-based
-    /// item index, FMI 2.0 section 2.2.3). Same checks as [`Instance::set_real`].
-    pub fn set_integer(&mut self, vrs: &[u32], values: &[i32]) -> Status {
-        self.call(
-            "fmi2SetInteger",
-            mask::SET,
-            || format!("vr={vrs:?}, value={values:?}"),
-            |s| {
-                let mut cfg = s.cfg.clone();
-                for (&vr, &i) in vrs.iter().zip(values) {
-                    let var = lookup(vr).ok_or_else(|| unknown_vr(vr))?;
-                    match &var {
-                        Var::Param(p)
-                            if matches!(
-                                p.kind,
-                                Kind::Integer { .. } | Kind::Enumeration { .. }
-                            ) =>
-                        {
-                            cfg.set(p.name, Value::Integer(i64::from(i)))
-                                .map_err(|e| Fail::Error(e.to_string()))?
-                        }
                         Var::Output(i) => {
                             return error(format!(
                                 "'{}' (valueReference {vr}) is an output and cannot be set",
