@@ -681,80 +681,45 @@ unsupported!(
     "no step is in progress: fmi2DoStep is synchronous (canRunAsynchronuously = false)"
 );
 
-#[no_mangle]
-pub unsafe extern "C" fn fmi2GetStatus(
-    c: fmi2Component,
-    s: fmi2StatusKind,
-    value: *mut fmi2Status,
-) -> fmi2Status {
-    guarded(c, "fmi2GetStatus", |inst| {
-        if value.is_null() {
-            return null_arg(inst, "fmi2GetStatus", "value");
+/// An fmi2Get*Status function (FMI 2.0 section 4.2.3): refuses a NULL `value`, then `$body`.
+macro_rules! status_getter {
+    ($name:ident, $value:ty, |$inst:ident, $s:ident, $v:ident| $body:block) => {
+        #[no_mangle]
+        pub unsafe extern "C" fn $name(
+            c: fmi2Component,
+            $s: fmi2StatusKind,
+            $v: *mut $value,
+        ) -> fmi2Status {
+            guarded(c, stringify!($name), |$inst| {
+                if $v.is_null() {
+                    return null_arg($inst, stringify!($name), "value");
+                }
+                $body
+            })
         }
-        inst.get_status("fmi2GetStatus", s)
-    })
+    };
 }
 
-#[no_mangle]
-pub unsafe extern "C" fn fmi2GetRealStatus(
-    c: fmi2Component,
-    s: fmi2StatusKind,
-    value: *mut fmi2Real,
-) -> fmi2Status {
-    guarded(c, "fmi2GetRealStatus", |inst| {
-        if value.is_null() {
-            return null_arg(inst, "fmi2GetRealStatus", "value");
-        }
-        inst.get_real_status(s, &mut *value)
-    })
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi2GetIntegerStatus(
-    c: fmi2Component,
-    s: fmi2StatusKind,
-    value: *mut fmi2Integer,
-) -> fmi2Status {
-    guarded(c, "fmi2GetIntegerStatus", |inst| {
-        if value.is_null() {
-            return null_arg(inst, "fmi2GetIntegerStatus", "value");
-        }
-        inst.get_status("fmi2GetIntegerStatus", s)
-    })
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi2GetBooleanStatus(
-    c: fmi2Component,
-    s: fmi2StatusKind,
-    value: *mut fmi2Boolean,
-) -> fmi2Status {
-    guarded(c, "fmi2GetBooleanStatus", |inst| {
-        if value.is_null() {
-            return null_arg(inst, "fmi2GetBooleanStatus", "value");
-        }
-        let mut b = false;
-        let st = inst.get_boolean_status(s, &mut b);
-        if st == Status::Ok {
-            *value = if b { FMI2_TRUE } else { FMI2_FALSE };
-        }
-        st
-    })
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi2GetStringStatus(
-    c: fmi2Component,
-    s: fmi2StatusKind,
-    value: *mut fmi2String,
-) -> fmi2Status {
-    guarded(c, "fmi2GetStringStatus", |inst| {
-        if value.is_null() {
-            return null_arg(inst, "fmi2GetStringStatus", "value");
-        }
-        inst.get_status("fmi2GetStringStatus", s)
-    })
-}
+status_getter!(fmi2GetStatus, fmi2Status, |inst, s, _value| {
+    inst.get_status("fmi2GetStatus", s)
+});
+status_getter!(fmi2GetRealStatus, fmi2Real, |inst, s, value| {
+    inst.get_real_status(s, &mut *value)
+});
+status_getter!(fmi2GetIntegerStatus, fmi2Integer, |inst, s, _value| {
+    inst.get_status("fmi2GetIntegerStatus", s)
+});
+status_getter!(fmi2GetBooleanStatus, fmi2Boolean, |inst, s, value| {
+    let mut b = false;
+    let st = inst.get_boolean_status(s, &mut b);
+    if st == Status::Ok {
+        *value = if b { FMI2_TRUE } else { FMI2_FALSE };
+    }
+    st
+});
+status_getter!(fmi2GetStringStatus, fmi2String, |inst, s, _value| {
+    inst.get_status("fmi2GetStringStatus", s)
+});
 
 #[cfg(test)]
 mod tests {
