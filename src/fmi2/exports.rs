@@ -67,6 +67,25 @@ unsafe fn state<'a>(s: fmi2FMUstate) -> Option<&'a mut StateHandle> {
     (h.tag == STATE_TAG).then_some(h)
 }
 
+/// Put `snap` into the state `*slot` names: overwrite it if it is one of ours, else allocate a
+/// new one there (FMI 2.0 section 2.1.8: `*FMUstate` NULL means "make a new state"). `slot`
+/// must be a valid, non-NULL pointer whose target is NULL or one of our states (callers check).
+unsafe fn store_state(slot: *mut fmi2FMUstate, snap: Snapshot) {
+    match state(*slot) {
+        Some(h) => {
+            h.snap = snap;
+            h.bytes = None;
+        }
+        None => {
+            *slot = Box::into_raw(Box::new(StateHandle {
+                tag: STATE_TAG,
+                snap,
+                bytes: None,
+            })) as fmi2FMUstate;
+        }
+    }
+}
+
 fn panic_message(p: &(dyn std::any::Any + Send)) -> String {
     if let Some(s) = p.downcast_ref::<&str>() {
         (*s).to_string()
@@ -418,19 +437,7 @@ pub unsafe extern "C" fn fmi2GetFMUstate(
         let mut snap = None;
         let st = inst.get_state(&mut snap);
         if let Some(snap) = snap {
-            match state(existing) {
-                Some(h) => {
-                    h.snap = snap;
-                    h.bytes = None;
-                }
-                None => {
-                    *FMUstate = Box::into_raw(Box::new(StateHandle {
-                        tag: STATE_TAG,
-                        snap,
-                        bytes: None,
-                    })) as fmi2FMUstate;
-                }
-            }
+            store_state(FMUstate, snap);
         }
         st
     })
@@ -561,19 +568,7 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
         if st != Status::Ok {
             return st;
         }
-        match state(*FMUstate) {
-            Some(h) => {
-                h.snap = snap;
-                h.bytes = None;
-            }
-            None => {
-                *FMUstate = Box::into_raw(Box::new(StateHandle {
-                    tag: STATE_TAG,
-                    snap,
-                    bytes: None,
-                })) as fmi2FMUstate;
-            }
-        }
+        store_state(FMUstate, snap);
         st
     })
 }
