@@ -9,6 +9,10 @@
 //! `modelDescription/modelDescription.xml` is checked against this table by a test, so the FMU's
 //! interface and the solver cannot drift apart.
 
+use crate::rheology::{
+    AnyRheology, Cross, FeneCr, FeneP, Giesekus, Newtonian, OldroydB, PttExponential, PttLinear,
+};
+pub use crate::rheology::{ConformationMethod, CONFORMATION_METHODS};
 use serde::{Deserialize, Serialize};
 use std::fmt;
 use thiserror::Error;
@@ -116,13 +120,6 @@ pub const RHEOLOGIES: &[(&str, &str)] = &[
     ("giesekus", "Giesekus"),
     ("cross", "Cross shear-thinning generalized Newtonian"),
 ];
-pub const CONFORMATION_METHODS: &[(&str, &str)] = &[
-    (
-        "direct",
-        "direct upper-convected update of the conformation tensor",
-    ),
-    ("log", "log-conformation (King & Lind eqs. 12-19, 29-33)"),
-];
 pub const ARTIFICIAL_STRESS_KINDS: &[(&str, &str)] = &[
     (
         "fang",
@@ -177,7 +174,50 @@ pub const PARAMS: &[ParamSpec] = &[
     ParamSpec { name: "density_reinit_interval", value_reference: 30, kind: Kind::Integer { default: 20, min: 0, max: 1_000_000 }, unit: "", description: "PDRI: steps between density reinitialisations (0 = never)" },
     ParamSpec { name: "equation_of_state", value_reference: 31, kind: Kind::Enumeration { type_name: "EquationOfState", items: EQUATIONS_OF_STATE, default: "linear" }, unit: "", description: "Equation of state relating pressure to density" },
     ParamSpec { name: "fracture_void_fraction", value_reference: 32, kind: real(0.02, 0.0, 1.0), unit: "1", description: "Health: fraction of the fluid's area torn open into holes beyond which the run stops with a tensile-instability fracture (0 = never check)" },
+    ParamSpec { name: "threads", value_reference: 40, kind: Kind::Integer { default: 0, min: 0, max: 1024 }, unit: "", description: "Worker threads of this simulation's own thread pool; 0 = the RAYON_NUM_THREADS environment variable, else one per core. Results do not depend on it" },
 ];
+
+/// The rheology is built here, next to the table that names its parameters, so that the
+/// constitutive models (`crate::rheology`) depend on nothing above them.
+impl AnyRheology {
+    /// Build the configured model from `viscosity` (eta0, total zero-shear), `viscosity_ratio`
+    /// (beta = eta_s/eta0), `relaxation_time` (lambda) and the model's own parameter. UCM is
+    /// Oldroyd-B with beta = 0 whatever `viscosity_ratio` says; Newtonian and Cross ignore
+    /// beta and lambda (the whole viscosity is the solvent's). Parameter ranges were checked by
+    /// the parameter table (`config::PARAMS`).
+    pub fn from_config(cfg: &SceneConfig) -> Result<Self, ConfigError> {
+        let eta0 = cfg.viscosity;
+        let beta = cfg.viscosity_ratio;
+        let lambda = cfg.relaxation_time;
+        Ok(match cfg.rheology {
+            RheologyKind::Newtonian => AnyRheology::Newtonian(Newtonian::new(eta0)),
+            RheologyKind::OldroydB => AnyRheology::OldroydB(OldroydB::new(eta0, beta, lambda)),
+            RheologyKind::Ucm => AnyRheology::OldroydB(OldroydB::new(eta0, 0.0, lambda)),
+            RheologyKind::FeneP => AnyRheology::FeneP(FeneP::new(eta0, beta, lambda, cfg.fene_L2)),
+            RheologyKind::FeneCr => {
+                AnyRheology::FeneCr(FeneCr::new(eta0, beta, lambda, cfg.fene_L2))
+            }
+            RheologyKind::PttLinear => {
+                AnyRheology::PttLinear(PttLinear::new(eta0, beta, lambda, cfg.ptt_epsilon))
+            }
+            RheologyKind::PttExponential => AnyRheology::PttExponential(PttExponential::new(
+                eta0,
+                beta,
+                lambda,
+                cfg.ptt_epsilon,
+            )),
+            RheologyKind::Giesekus => {
+                AnyRheology::Giesekus(Giesekus::new(eta0, beta, lambda, cfg.giesekus_alpha))
+            }
+            RheologyKind::Cross => AnyRheology::Cross(Cross::new(
+                eta0,
+                cfg.cross_viscosity_inf,
+                cfg.cross_K,
+                cfg.cross_m,
+            )),
+        })
+    }
+}
 
 /// Index of a parameter in [`PARAMS`] by name.
 /// `drop_height` is accepted as the older name of `initial_drop_height`: the FMU needs unique
@@ -196,51 +236,22 @@ pub fn param_by_vr(vr: u32) -> Option<&'static ParamSpec> {
     PARAMS.iter().find(|p| p.value_reference == vr)
 }
 
-macro_rules! choice_enum {
-    ($(#[$m:meta])* $name:ident, $table:ident, $($variant:ident = $s:literal),+ $(,)?) => {
-        $(#[$m])*
-        #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Hash)]
-        #[serde(rename_all = "snake_case")]
-        pub enum $name { $($variant),+ }
-        impl $name {
-            /// The snake_case name used in the FMU and in scene files.
-            pub fn as_str(self) -> &'static str { match self { $(Self::$variant => $s),+ } }
-            /// Parse the snake_case name.
-            pub fn parse(s: &str) -> Option<Self> { match s { $($s => Some(Self::$variant),)+ _ => None } }
-            /// FMI enumeration index (1-based, in table order).
-            pub fn index(self) -> i64 {
-                $table.iter().position(|(n, _)| *n == self.as_str()).map(|i| i as i64 + 1).unwrap_or(0)
-            }
-            pub fn from_index(i: i64) -> Option<Self> {
-                if i < 1 { return None; }
-                $table.get((i - 1) as usize).and_then(|(n, _)| Self::parse(n))
-            }
-        }
-        impl fmt::Display for $name {
-            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result { f.write_str(self.as_str()) }
-        }
-    };
-}
-
-choice_enum!(
+crate::choice_enum!(
     /// The flow to simulate.
     Scene, SCENES, Drop = "drop", Jet = "jet", EllipticalDrop = "elliptical_drop");
-choice_enum!(
+crate::choice_enum!(
     /// The SPH scheme.
     SchemeKind, SCHEMES, Wcsph = "wcsph", Pdri = "pdri", Isph = "isph");
-choice_enum!(
+crate::choice_enum!(
     /// The constitutive model.
     RheologyKind, RHEOLOGIES,
     Newtonian = "newtonian", OldroydB = "oldroyd_b", Ucm = "ucm", FeneP = "fene_p",
     FeneCr = "fene_cr", PttLinear = "ptt_linear", PttExponential = "ptt_exponential",
     Giesekus = "giesekus", Cross = "cross");
-choice_enum!(
-    /// How the conformation tensor is advanced in time.
-    ConformationMethod, CONFORMATION_METHODS, Direct = "direct", Log = "log");
-choice_enum!(
+crate::choice_enum!(
     /// Which artificial stress is used against the tensile instability.
     ArtificialStressKind, ARTIFICIAL_STRESS_KINDS, Fang = "fang", Ren = "ren");
-choice_enum!(
+crate::choice_enum!(
     /// Equation of state.
     EquationOfState, EQUATIONS_OF_STATE, Linear = "linear", Tait = "tait");
 
@@ -299,6 +310,8 @@ pub struct SceneConfig {
     pub density_reinit_interval: i64,
     pub equation_of_state: EquationOfState,
     pub fracture_void_fraction: f64,
+    /// Size of the simulation's own thread pool (0 = RAYON_NUM_THREADS or one per core).
+    pub threads: i64,
 }
 
 /// Largest number of particles (fluid + wall) a scene may ask for: about 2 GB of state.
@@ -339,6 +352,7 @@ impl Default for SceneConfig {
             density_reinit_interval: 0,
             equation_of_state: EquationOfState::Linear,
             fracture_void_fraction: 0.0,
+            threads: 0,
         };
         for p in PARAMS {
             let v = match p.kind {
@@ -407,6 +421,7 @@ impl SceneConfig {
                 match name {
                     "particles_per_diameter" => self.particles_per_diameter = i,
                     "density_reinit_interval" => self.density_reinit_interval = i,
+                    "threads" => self.threads = i,
                     _ => unreachable!("integer row without field: {name}"),
                 }
             }
@@ -459,6 +474,7 @@ impl SceneConfig {
             Kind::Integer { .. } => Value::Integer(match name {
                 "particles_per_diameter" => self.particles_per_diameter,
                 "density_reinit_interval" => self.density_reinit_interval,
+                "threads" => self.threads,
                 _ => unreachable!(),
             }),
             Kind::Enumeration { .. } => Value::Integer(match name {
@@ -516,32 +532,19 @@ impl SceneConfig {
     /// Checks that involve several parameters, or that the scene can actually be built.
     /// Single-value ranges were already enforced by [`SceneConfig::set`]; they are checked
     /// again here so a config built field by field in Rust is held to the same table.
+    ///
+    /// The checks that belong to one scene (a drop that starts inside its plate, a scene not
+    /// built yet) are the scene's own: `Simulation::validate` runs both.
     pub fn validate(&self) -> Result<(), ConfigError> {
         for p in PARAMS {
             let v = self.get(p.name)?;
             self.clone().set(p.name, v)?;
         }
         let inconsistent = |s: String| Err(ConfigError::Inconsistent(s));
-        match self.scene {
-            Scene::Drop => {}
-            Scene::EllipticalDrop => {}
-            Scene::Jet => {
-                return inconsistent(
-                    "scene 'jet' is not implemented yet; use scene = 'drop' or 'elliptical_drop'"
-                        .into(),
-                )
-            }
-        }
         if self.scheme == SchemeKind::Isph {
             return inconsistent(
                 "scheme 'isph' is not implemented yet; use scheme = 'wcsph' or 'pdri'".into(),
             );
-        }
-        if !crate::rheology::is_implemented(self.rheology) {
-            return inconsistent(format!(
-                "rheology '{}' is not implemented yet",
-                self.rheology
-            ));
         }
         if self.rheology == RheologyKind::PttLinear && self.ptt_epsilon > 0.5 {
             return inconsistent(format!(
@@ -556,20 +559,6 @@ impl SceneConfig {
                  model (Ren 2015 eq. 5) is shear-thinning, so it must be at most viscosity",
                 self.cross_viscosity_inf, self.viscosity
             ));
-        }
-        if self.scene == Scene::Drop {
-            let theta = self.plate_inclination.to_radians();
-            let normal_gap = self.drop_height * theta.cos() - 0.5 * self.drop_diameter;
-            if normal_gap < self.dx() {
-                return inconsistent(format!(
-                    "initial_drop_height = {} m puts the drop (diameter {} m) within one particle spacing of \
-                     the plate inclined at {} deg: its centre must be at least {:.6} m above the impact point",
-                    self.drop_height,
-                    self.drop_diameter,
-                    self.plate_inclination,
-                    (0.5 * self.drop_diameter + self.dx()) / theta.cos()
-                ));
-            }
         }
         let ppd = self.particles_per_diameter as f64;
         let estimate = self.estimated_particles();

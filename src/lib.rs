@@ -8,19 +8,23 @@
 
 pub mod bench;
 pub mod boundary;
+pub mod choice;
 pub mod config;
 pub mod diagnostics;
+pub mod eos;
 pub mod fmi2;
 pub mod health;
 pub mod io;
 pub mod kernel;
 pub mod neighbors;
+pub mod operators;
 pub mod particles;
 pub mod rheology;
 pub mod run;
 pub mod scene;
 pub mod scheme;
 pub mod simulation;
+pub mod state;
 
 /// 2D vector (nalgebra), the one math alias used everywhere.
 pub type Vec2 = nalgebra::Vector2<f64>;
@@ -30,3 +34,4 @@ pub type Mat2 = nalgebra::Matrix2<f64>;
 pub use config::SceneConfig;
 pub use diagnostics::{Outputs, OUTPUTS};
 pub use simulation::{SimError, Simulation};
+pub use state::State;

@@ -184,16 +184,19 @@ fn trajectory(case: &Case) -> String {
     }
     let st = sim.state();
     let f = &st.fluid;
-    let words = f
-        .x
-        .iter()
-        .chain(&f.v)
-        .flat_map(|p| [p.x, p.y])
-        .chain(f.rho.iter().copied())
-        .chain(f.conf.iter().flat_map(|a| a.iter().copied().collect::<Vec<_>>()))
-        .chain([st.wall_impulse.x, st.wall_impulse.y, st.time])
-        .map(f64::to_bits)
-        .chain([st.step, f.len() as u64]);
+    let words =
+        f.x.iter()
+            .chain(&f.v)
+            .flat_map(|p| [p.x, p.y])
+            .chain(f.rho.iter().copied())
+            .chain(
+                f.conf
+                    .iter()
+                    .flat_map(|a| a.iter().copied().collect::<Vec<_>>()),
+            )
+            .chain([st.wall_impulse.x, st.wall_impulse.y, st.time])
+            .map(f64::to_bits)
+            .chain([st.step, f.len() as u64]);
     writeln!(text, "state {:016x}", fnv(words)).unwrap();
     text
 }

@@ -1,11 +1,13 @@
-//! Neighbour search: a uniform cell grid filled by a counting sort, and compact (CSR) neighbour
-//! lists built from it in parallel.
+//! A uniform cell grid filled by a counting sort, and compact (CSR) neighbour lists built from it
+//! in parallel. In a domain periodic along x the grid spans exactly one period and its columns
+//! wrap, so particles near one end find those near the other at their nearest image.
 //!
 //! Determinism: each list is sorted by neighbour index, so every sum over neighbours runs in the
 //! same order whatever the thread count and whenever the list was last rebuilt. Lists are built with
 //! a skin (radius = support + skin) and reused until some particle has moved more than half the
 //! skin; particles in the skin but outside the support contribute exact zeros.
 
+use super::Domain;
 use crate::Vec2;
 use rayon::prelude::*;
 
@@ -13,7 +15,11 @@ use rayon::prelude::*;
 #[derive(Debug, Clone, Default)]
 pub struct CellGrid {
     origin: Vec2,
+    /// Inverse cell side along x (the period over the number of columns when periodic) and y.
+    inv_cell_x: f64,
     inv_cell: f64,
+    /// Whether the columns wrap (periodic along x).
+    periodic: bool,
     nx: usize,
     ny: usize,
     /// `cell_start[c]..cell_start[c+1]` indexes `sorted` for cell c.
@@ -23,11 +29,13 @@ pub struct CellGrid {
 }
 
 impl CellGrid {
-    /// Bin `points` into cells of side `cell` (>= the largest search radius used with it).
-    pub fn build(points: &[Vec2], cell: f64) -> Self {
+    /// Bin `points` into cells of side `cell` (>= the largest search radius used with it) in the
+    /// domain `dom` (points of a periodic domain lie in its box).
+    pub fn build(points: &[Vec2], cell: f64, dom: &Domain) -> Self {
         assert!(cell > 0.0 && cell.is_finite());
         if points.is_empty() {
             return Self {
+                inv_cell_x: 1.0 / cell,
                 inv_cell: 1.0 / cell,
                 nx: 1,
                 ny: 1,
@@ -46,11 +54,24 @@ impl CellGrid {
                 |a, b| (a.0.inf(&b.0), a.1.sup(&b.1)),
             );
         let inv_cell = 1.0 / cell;
-        let nx = (((hi.x - lo.x) * inv_cell).floor() as usize + 1).max(1);
         let ny = (((hi.y - lo.y) * inv_cell).floor() as usize + 1).max(1);
+        let (origin, nx, inv_cell_x) = match dom.period_x {
+            // Whole columns of at least `cell` across one period.
+            Some(l) => {
+                let nx = ((l * inv_cell).floor() as usize).max(1);
+                (Vec2::new(0.0, lo.y), nx, nx as f64 / l)
+            }
+            None => (
+                lo,
+                (((hi.x - lo.x) * inv_cell).floor() as usize + 1).max(1),
+                inv_cell,
+            ),
+        };
         let mut grid = Self {
-            origin: lo,
+            origin,
+            inv_cell_x,
             inv_cell,
+            periodic: dom.period_x.is_some(),
             nx,
             ny,
             cell_start: Vec::new(),
@@ -78,7 +99,7 @@ impl CellGrid {
     #[inline]
     fn coords(&self, p: &Vec2) -> (i64, i64) {
         (
-            ((p.x - self.origin.x) * self.inv_cell).floor() as i64,
+            ((p.x - self.origin.x) * self.inv_cell_x).floor() as i64,
             ((p.y - self.origin.y) * self.inv_cell).floor() as i64,
         )
     }
@@ -96,8 +117,27 @@ impl CellGrid {
     #[inline]
     pub fn for_each_candidate(&self, p: &Vec2, mut f: impl FnMut(u32)) {
         let (cx, cy) = self.coords(p);
+        // Columns to visit: the three around cx, wrapped and without repeats when periodic.
+        let nx = self.nx as i64;
+        let mut cols = [0i64; 3];
+        let mut ncols = 0;
+        if self.periodic {
+            let cx = cx.clamp(0, nx - 1);
+            for x in [cx - 1, cx, cx + 1] {
+                let x = x.rem_euclid(nx);
+                if !cols[..ncols].contains(&x) {
+                    cols[ncols] = x;
+                    ncols += 1;
+                }
+            }
+        } else {
+            for x in (cx - 1).max(0)..=(cx + 1).min(nx - 1) {
+                cols[ncols] = x;
+                ncols += 1;
+            }
+        }
         for y in (cy - 1).max(0)..=(cy + 1).min(self.ny as i64 - 1) {
-            for x in (cx - 1).max(0)..=(cx + 1).min(self.nx as i64 - 1) {
+            for &x in &cols[..ncols] {
                 let c = y as usize * self.nx + x as usize;
                 let (a, b) = (self.cell_start[c] as usize, self.cell_start[c + 1] as usize);
                 for &j in &self.sorted[a..b] {
@@ -120,7 +160,13 @@ impl NeighborList {
     /// Lists for every query point of the points within `radius`, using `grid` built over
     /// `points` with a cell side >= radius. Runs in parallel over chunks of query points and
     /// concatenates in order, so the result does not depend on the thread count.
-    pub fn build(grid: &CellGrid, points: &[Vec2], queries: &[Vec2], radius: f64) -> Self {
+    pub fn build(
+        grid: &CellGrid,
+        points: &[Vec2],
+        queries: &[Vec2],
+        radius: f64,
+        dom: &Domain,
+    ) -> Self {
         let r2 = radius * radius;
         const CHUNK: usize = 512;
         let parts: Vec<(Vec<u32>, Vec<u32>)> = queries
@@ -131,7 +177,7 @@ impl NeighborList {
                 for q in chunk {
                     let before = idx.len();
                     grid.for_each_candidate(q, |j| {
-                        if (points[j as usize] - q).norm_squared() <= r2 {
+                        if dom.delta(&points[j as usize], q).norm_squared() <= r2 {
                             idx.push(j);
                         }
                     });
@@ -210,14 +256,44 @@ mod tests {
             let queries: Vec<Vec2> = (0..300)
                 .map(|_| Vec2::new(rng.gen_range(-1.2..1.2), rng.gen_range(-0.2..0.7)))
                 .collect();
-            let grid = CellGrid::build(&pts, radius);
-            let list = NeighborList::build(&grid, &pts, &queries, radius);
+            let grid = CellGrid::build(&pts, radius, &Domain::OPEN);
+            let list = NeighborList::build(&grid, &pts, &queries, radius, &Domain::OPEN);
             assert_eq!(list.len(), queries.len());
             for (i, q) in queries.iter().enumerate() {
                 let brute: Vec<u32> = (0..n as u32)
                     .filter(|&j| (pts[j as usize] - q).norm_squared() <= radius * radius)
                     .collect();
                 assert_eq!(list.of(i), &brute[..]);
+            }
+        }
+    }
+
+    #[test]
+    fn periodic_lists_equal_brute_force_nearest_images() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+        // Periods of 1 to 6 columns, including those too short for three distinct columns.
+        for &(l, radius) in &[
+            (1.0, 0.3),
+            (0.5, 0.2),
+            (0.25, 0.11),
+            (1.0, 0.05),
+            (0.3, 0.3),
+        ] {
+            let dom = Domain::periodic_x(l);
+            let pts: Vec<Vec2> = (0..1500)
+                .map(|_| Vec2::new(rng.gen_range(0.0..l), rng.gen_range(0.0..0.6)))
+                .collect();
+            let grid = CellGrid::build(&pts, radius, &dom);
+            let list = NeighborList::build(&grid, &pts, &pts, radius, &dom);
+            for (i, q) in pts.iter().enumerate() {
+                let brute: Vec<u32> = (0..pts.len() as u32)
+                    .filter(|&j| dom.delta(&pts[j as usize], q).norm_squared() <= radius * radius)
+                    .collect();
+                assert_eq!(
+                    list.of(i),
+                    &brute[..],
+                    "period {l}, radius {radius}, point {i}"
+                );
             }
         }
     }
@@ -234,8 +310,9 @@ mod tests {
                 .build()
                 .unwrap()
                 .install(|| {
-                    let g = CellGrid::build(&pts, 0.03);
-                    let l = NeighborList::build(&g, &pts, &pts, 0.03);
+                    let dom = Domain::periodic_x(1.0);
+                    let g = CellGrid::build(&pts, 0.03, &dom);
+                    let l = NeighborList::build(&g, &pts, &pts, 0.03, &dom);
                     (l.start.clone(), l.idx.clone())
                 })
         };

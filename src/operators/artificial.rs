@@ -3,6 +3,7 @@
 //! Gray, Monaghan & Swift) and Ren's, keyed to the sign of the kernel's second derivative (Ren 2015
 //! eqs. 20a-20b, after Swegle et al.).
 
+use crate::config::ArtificialStressKind;
 use crate::kernel::Kernel;
 use crate::{Mat2, Vec2};
 
@@ -101,6 +102,101 @@ pub fn ren_stress(b: f64, sigma: &Mat2, rho: f64, hess_sum: &Mat2) -> Mat2 {
     };
     let xy = pick(0, 1);
     Mat2::new(pick(0, 0), xy, xy, pick(1, 1))
+}
+
+/// Intervals of the table of Ren's f^n over r in [0, 2h].
+const REN_TABLE: usize = 4096;
+
+/// The artificial stress against the tensile instability, resolved once: Fang 2006 eqs. (38)-(44)
+/// or Ren 2015 eqs. (20a)-(20b). Both add f_ij^n (R_i + R_j) to the pair term of the momentum
+/// equation with f_ij = W_ij / W(d0) (Fang eq. 39, Ren eq. 20a); they differ in R and in n.
+///
+/// Fang's n = 4 costs two multiplications. Ren's n = W(0)/W(d0) (1.8 for h = 1.5 d0) is not an
+/// integer, and `powf` on every pair took a fifth of a PDRI step; f^n depends on r only, so it is
+/// tabulated over r and interpolated linearly (error below 5e-7; f^n is 1 at r = d0).
+/// (Over r^2 it would save the square root, but W is not smooth in r^2 at r = 0.)
+#[derive(Debug, Clone)]
+pub struct ArtificialStress {
+    kind: ArtificialStressKind,
+    /// Fang's epsilon or Ren's b.
+    coef: f64,
+    /// The exponent n: 4 for Fang (section 3.2), W(0)/W(d0) for Ren (eq. 20a).
+    n: f64,
+    /// 1 / W(d0).
+    inv_w_d0: f64,
+    /// Ren: f^n at r = k 2h / REN_TABLE, k = 0..=REN_TABLE, and the index scale.
+    table: Vec<f64>,
+    per_r: f64,
+}
+
+impl ArtificialStress {
+    pub fn new<K: Kernel>(kernel: &K, kind: ArtificialStressKind, coef: f64, dx: f64) -> Self {
+        let w_d0 = kernel.w(dx);
+        let n = match kind {
+            ArtificialStressKind::Fang => 4.0,
+            ArtificialStressKind::Ren => kernel.w(0.0) / w_d0,
+        };
+        let radius = kernel.radius();
+        let table = if kind == ArtificialStressKind::Ren {
+            (0..=REN_TABLE)
+                .map(|k| (kernel.w(radius * k as f64 / REN_TABLE as f64) / w_d0).powf(n))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        Self {
+            kind,
+            coef,
+            n,
+            inv_w_d0: 1.0 / w_d0,
+            table,
+            per_r: REN_TABLE as f64 / radius,
+        }
+    }
+
+    /// Whether the term is there at all.
+    #[inline]
+    pub fn is_on(&self) -> bool {
+        self.coef > 0.0
+    }
+
+    /// Whether R needs the sum of kernel Hessians over the neighbours (Ren eq. 20b).
+    #[inline]
+    pub fn needs_hessian(&self) -> bool {
+        self.is_on() && self.kind == ArtificialStressKind::Ren
+    }
+
+    /// The exponent n.
+    pub fn exponent(&self) -> f64 {
+        self.n
+    }
+
+    /// R of one particle from its total stress, density and (Ren) Hessian sum.
+    #[inline]
+    pub fn of_particle(&self, sigma: &Mat2, rho: f64, hess: &Mat2) -> Mat2 {
+        match self.kind {
+            ArtificialStressKind::Fang => fang_stress(self.coef, sigma, rho),
+            ArtificialStressKind::Ren => ren_stress(self.coef, sigma, rho, hess),
+        }
+    }
+
+    /// f_ij^n for a pair with kernel value `w` at squared distance `r2` (inside the support).
+    #[inline]
+    pub fn pair_factor(&self, w: f64, r2: f64) -> f64 {
+        match self.kind {
+            ArtificialStressKind::Fang => {
+                let f = w * self.inv_w_d0;
+                let f2 = f * f;
+                f2 * f2
+            }
+            ArtificialStressKind::Ren => {
+                let x = r2.sqrt() * self.per_r;
+                let k = (x as usize).min(REN_TABLE - 1);
+                let t = x - k as f64;
+                self.table[k] + (self.table[k + 1] - self.table[k]) * t
+            }
+        }
+    }
 }
 
 #[cfg(test)]
@@ -206,5 +302,21 @@ mod tests {
             0.0
         );
         assert!(viscosity(1.0, 2.0, 1.0, 10.0, 1.0, &Vec2::new(-1.0, 0.0), &x, 1.0) > 0.0);
+    }
+
+    #[test]
+    fn ren_pair_factor_table_matches_the_power() {
+        let dx = 0.01;
+        let kernel = CubicSpline::new(1.5 * dx);
+        let art = ArtificialStress::new(&kernel, ArtificialStressKind::Ren, 0.8, dx);
+        // n = W(0)/W(d0) = 1.8 exactly for h = 1.5 d0 (Fang 2006 section 3.2 quotes the ratio).
+        assert!((art.exponent() - 1.8).abs() < 1e-12);
+        for k in 0..30011 {
+            let r = kernel.radius() * k as f64 / 30011.0;
+            let w = kernel.w(r);
+            let exact = (w / kernel.w(dx)).powf(1.8);
+            let table = art.pair_factor(w, r * r);
+            assert!((table - exact).abs() < 5e-7, "r = {r}: {table} vs {exact}");
+        }
     }
 }
