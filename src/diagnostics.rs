@@ -19,6 +19,14 @@
 //! | `time_step` | the last full time step taken |
 //! | `particle_count` | number of fluid particles |
 //! | `void_fraction` | area of holes enclosed by fluid over the fluid's area, on cells of 2 dx (see [`crate::health`]) |
+//! | `centreline_velocity` | channel: mean flow velocity of the particles within dx/2... of the centre line (see [`crate::scene::channel`]); 0 elsewhere |
+//! | `flow_rate` | channel: sum of V_i u_i over the period length, the flow rate per unit depth; 0 elsewhere |
+//! | `wall_shear_stress` | channel: force of the fluid on both walls along the flow, over twice the period length; 0 elsewhere |
+//! | `plate_displacement` | distance the plate has moved along -n (the integral of the `plate_velocity` input); 0 without a plate |
+//!
+//! Outputs that do not apply to a scene hold 0 (`min_conformation_det` 1), never NaN: the drop
+//! fills the drop outputs, the channel its three and the health figures; the elliptical drop
+//! fills width and height as its extents along x and y.
 //!
 //! At a communication time between two internal steps, every output is interpolated linearly
 //! between the two internal states (see `Simulation::advance_to`), so outputs at a given time do
@@ -60,17 +68,25 @@ pub const OUTPUTS: &[OutputSpec] = &[
     OutputSpec { name: "time_step", value_reference: 111, unit: "s", description: "Last time step of the solver" },
     OutputSpec { name: "particle_count", value_reference: 112, unit: "", description: "Number of fluid particles" },
     OutputSpec { name: "void_fraction", value_reference: 113, unit: "1", description: "Area of holes torn into the fluid over the fluid's area (tensile-instability fracture measure)" },
+    OutputSpec { name: "centreline_velocity", value_reference: 114, unit: "m/s", description: "Channel: flow velocity on the centre line (0 in other scenes)" },
+    OutputSpec { name: "flow_rate", value_reference: 115, unit: "m2/s", description: "Channel: volume flow rate per unit depth (0 in other scenes)" },
+    OutputSpec { name: "wall_shear_stress", value_reference: 116, unit: "Pa", description: "Channel: shear stress of the fluid on the walls, mean of both, positive along the flow (0 in other scenes)" },
+    OutputSpec { name: "plate_displacement", value_reference: 117, unit: "m", description: "Distance the plate has moved along its normal, away from the fluid, driven by the plate_velocity input" },
 ];
+
+/// Number of outputs.
+pub const N_OUTPUTS: usize = 17;
+const _: () = assert!(OUTPUTS.len() == N_OUTPUTS);
 
 /// `values` and `set_values` from one list of the fields, in the order of [`OUTPUTS`].
 macro_rules! output_fields {
     ($($f:ident),+ $(,)?) => {
         /// Values in the order of [`OUTPUTS`].
-        pub fn values(&self) -> [f64; 13] {
+        pub fn values(&self) -> [f64; N_OUTPUTS] {
             [$(self.$f),+]
         }
         /// Set every value from an array in the order of [`OUTPUTS`].
-        pub fn set_values(&mut self, v: [f64; 13]) {
+        pub fn set_values(&mut self, v: [f64; N_OUTPUTS]) {
             [$(self.$f),+] = v;
         }
     };
@@ -92,6 +108,10 @@ pub struct Outputs {
     pub time_step: f64,
     pub particle_count: f64,
     pub void_fraction: f64,
+    pub centreline_velocity: f64,
+    pub flow_rate: f64,
+    pub wall_shear_stress: f64,
+    pub plate_displacement: f64,
 }
 
 impl Outputs {
@@ -109,6 +129,10 @@ impl Outputs {
         time_step,
         particle_count,
         void_fraction,
+        centreline_velocity,
+        flow_rate,
+        wall_shear_stress,
+        plate_displacement,
     );
 
     /// Value of an output by name.
@@ -163,6 +187,7 @@ impl Outputs {
         o.kinetic_energy = ke;
         o.volume_error = volume / (n as f64 * fl.mass / rho0) - 1.0;
         if let Some(p) = st.plate() {
+            o.plate_displacement = p.displacement;
             o.wall_force_normal = -st.wall_force.dot(&p.n);
             o.wall_force_tangential = st.wall_force.dot(&p.t);
         }

@@ -15,7 +15,7 @@
 //! shortened), so that an input set at a communication point acts from exactly that time; if the
 //! solver had already stepped past it, it goes back to the state before that step first.
 
-use crate::config::{ConfigError, SceneConfig};
+use crate::config::{ConfigError, SceneConfig, ViscousOperator};
 use crate::diagnostics::{pressure_roughness, Outputs};
 use crate::kernel::CubicSpline;
 use crate::rheology::AnyRheology;
@@ -80,6 +80,11 @@ fn params(scene: &dyn Scene, eff: &SceneConfig) -> Params {
     let mut p = Params::from_config(eff);
     p.domain_radius = scene.domain_radius(eff);
     p.domain = scene.domain(eff);
+    p.gravity = scene.body_force(eff);
+    p.viscous_laplacian = match eff.viscous_operator {
+        ViscousOperator::Auto => scene.viscous_laplacian(),
+        op => op == ViscousOperator::Laplacian,
+    };
     p
 }
 

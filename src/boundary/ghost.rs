@@ -106,6 +106,19 @@ impl<K: Kernel> GhostWall<K> {
         }
     }
 
+    /// Interpolate at `q` by the model's weights.
+    #[inline]
+    fn interpolate(
+        &self,
+        fluid: &Fluid,
+        list: &[u32],
+        q: &Vec2,
+        f: impl FnMut(usize, f64),
+    ) -> bool {
+        self.model
+            .interpolate(&self.kernel, &self.domain, fluid, list, q, f)
+    }
+
     /// Number of image (ghost) rows below the wall particle.
     pub fn image_rows(&self) -> usize {
         self.per_column - 1
@@ -130,17 +143,18 @@ impl<K: Kernel> Boundary for GhostWall<K> {
         if lo.is_finite() {
             wall.cover(lo - 3.0 * radius, hi + 3.0 * radius);
         }
-        out.extend(wall.virtual_positions(self.per_column));
+        let dom = self.domain;
+        out.extend(self.positions(wall));
         let mut queries = Vec::with_capacity(2 * wall.columns());
         for c in 0..wall.columns() {
-            queries.push(wall.point(wall.column_s(c), 0.0));
-            queries.push(wall.interior_point(c));
+            queries.push(dom.wrap(wall.point(wall.column_s(c), 0.0)));
+            queries.push(dom.wrap(wall.interior_point(c)));
         }
         self.clist = NeighborList::build(fluid_grid, fluid_x, &queries, radius, &self.domain);
     }
 
     fn fill_velocities(&self, wall: &Plate, fluid: &Fluid, out: &mut [Vec2]) {
-        let (kernel, dom, clist, model) = (&self.kernel, &self.domain, &self.clist, self.model);
+        let clist = &self.clist;
         let vw = wall.wall_velocity();
         out.par_chunks_mut(self.per_column)
             .with_min_len(MIN_COLUMNS)
@@ -148,9 +162,7 @@ impl<K: Kernel> Boundary for GhostWall<K> {
             .for_each(|(c, out)| {
                 let q = wall.interior_point(c);
                 let mut vp = Vec2::zeros();
-                model.interpolate(kernel, dom, fluid, clist.of(2 * c + 1), &q, |j, w| {
-                    vp += fluid.v[j] * w
-                });
+                self.interpolate(fluid, clist.of(2 * c + 1), &q, |j, w| vp += fluid.v[j] * w);
                 out[0] = vw; // the wall particle moves with the wall
                 for (row, o) in out.iter_mut().enumerate().skip(1) {
                     // Fang eq. (47), Ren eq. (23b): v_P + (1 + d_I/d_P)(v_W - v_P).
@@ -170,7 +182,7 @@ impl<K: Kernel> Boundary for GhostWall<K> {
         let n = wall.n;
         let nn = n * n.transpose();
         let elastic = !tau_p.is_empty();
-        let (kernel, dom, clist, model) = (&self.kernel, &self.domain, &self.clist, self.model);
+        let clist = &self.clist;
         out.par_chunks_mut(self.per_column)
             .with_min_len(MIN_COLUMNS)
             .enumerate()
@@ -178,7 +190,7 @@ impl<K: Kernel> Boundary for GhostWall<K> {
                 let qb = wall.point(wall.column_s(c), 0.0);
                 let mut sb = Mat2::zeros();
                 let mut snn = 0.0;
-                model.interpolate(kernel, dom, fluid, clist.of(2 * c), &qb, |j, w| {
+                self.interpolate(fluid, clist.of(2 * c), &qb, |j, w| {
                     sb += sigma[j] * w;
                     if elastic {
                         snn += n.dot(&(tau_p[j] * n)) * w;
@@ -189,9 +201,7 @@ impl<K: Kernel> Boundary for GhostWall<K> {
                 sb -= nn * snn;
                 let qp = wall.interior_point(c);
                 let mut sp = Mat2::zeros();
-                if !model.interpolate(kernel, dom, fluid, clist.of(2 * c + 1), &qp, |j, w| {
-                    sp += sigma[j] * w
-                }) {
+                if !self.interpolate(fluid, clist.of(2 * c + 1), &qp, |j, w| sp += sigma[j] * w) {
                     sp = sb;
                 }
                 sig[0] = sb;
@@ -201,8 +211,13 @@ impl<K: Kernel> Boundary for GhostWall<K> {
             });
     }
 
+    /// Inside the periodic box, if the domain has one.
     fn positions(&self, wall: &Plate) -> Vec<Vec2> {
-        wall.virtual_positions(self.per_column)
+        let mut x = wall.virtual_positions(self.per_column);
+        if self.domain.period_x.is_some() {
+            x.iter_mut().for_each(|p| *p = self.domain.wrap(*p));
+        }
+        x
     }
 }
 

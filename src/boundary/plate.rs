@@ -33,6 +33,10 @@ pub struct Plate {
     /// First and last column index (inclusive); `k_min > k_max` means no column yet.
     pub k_min: i64,
     pub k_max: i64,
+    /// Whether the column range is fixed (a periodic channel's wall spans exactly one period)
+    /// instead of growing to follow the fluid.
+    #[serde(default)]
+    pub fixed: bool,
 }
 
 impl Plate {
@@ -47,6 +51,23 @@ impl Plate {
             dx,
             k_min: 0,
             k_max: -1,
+            fixed: false,
+        }
+    }
+
+    /// A plate through `origin` with downhill tangent `t` (a unit vector; the normal into the
+    /// fluid is t turned a quarter turn anticlockwise) and the fixed columns `k_min..=k_max`.
+    pub fn spanning(origin: Vec2, t: Vec2, dx: f64, k_min: i64, k_max: i64) -> Self {
+        Self {
+            origin,
+            velocity: 0.0,
+            displacement: 0.0,
+            t,
+            n: Vec2::new(-t.y, t.x),
+            dx,
+            k_min,
+            k_max,
+            fixed: true,
         }
     }
 
@@ -78,6 +99,9 @@ impl Plate {
 
     /// Grow the column range so that it covers [s_lo, s_hi]. Returns whether it changed.
     pub fn cover(&mut self, s_lo: f64, s_hi: f64) -> bool {
+        if self.fixed {
+            return false;
+        }
         let lo = (s_lo / self.dx).floor() as i64;
         let hi = (s_hi / self.dx).ceil() as i64;
         if self.columns() == 0 {

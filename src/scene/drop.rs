@@ -80,3 +80,19 @@ impl Scene for Drop {
         cfg.drop_diameter / self.velocity_scale(cfg)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn drop_inside_plate_is_refused() {
+        let c = SceneConfig {
+            drop_height: 0.01,
+            ..Default::default()
+        };
+        let e = Drop.validate(&c).unwrap_err().to_string();
+        assert!(e.contains("drop_height"), "{e}");
+        assert!(Drop.validate(&SceneConfig::default()).is_ok());
+    }
+}

@@ -2,6 +2,7 @@
 //! jet) and what is measured in it. A scene is a [`Scene`]; [`for_config`] is the one place that
 //! maps the `scene` parameter to it, so a new scene is a new file and one line there.
 
+pub mod channel;
 pub mod drop;
 pub mod elliptical_drop;
 
@@ -11,7 +12,7 @@ use crate::diagnostics::Outputs;
 use crate::neighbors::Domain;
 use crate::particles::Fluid;
 use crate::state::State;
-use crate::Mat2;
+use crate::{Mat2, Vec2};
 
 /// One kind of flow.
 pub trait Scene: Send + Sync {
@@ -32,6 +33,18 @@ pub trait Scene: Send + Sync {
     /// The domain the pairs see (open unless the scene is periodic).
     fn domain(&self, _cfg: &SceneConfig) -> Domain {
         Domain::OPEN
+    }
+
+    /// Body force per unit mass [m/s2]: gravity, vertically down, unless the scene drives the
+    /// flow otherwise.
+    fn body_force(&self, cfg: &SceneConfig) -> Vec2 {
+        Vec2::new(0.0, -cfg.gravity)
+    }
+
+    /// Whether the `auto` viscous operator means Morris' Laplacian (see
+    /// [`crate::operators::stress`]) rather than Fang's nested form.
+    fn viscous_laplacian(&self) -> bool {
+        false
     }
 
     /// Largest distance from the origin a particle may reach before the run stops [m].
@@ -60,6 +73,7 @@ pub fn for_config(cfg: &SceneConfig) -> Result<&'static dyn Scene, ConfigError> 
     match cfg.scene {
         config::Scene::Drop => Ok(&drop::Drop),
         config::Scene::EllipticalDrop => Ok(&elliptical_drop::EllipticalDrop),
+        config::Scene::Channel => Ok(&channel::Channel),
         config::Scene::Jet => Err(ConfigError::Inconsistent(
             "scene 'jet' is not implemented yet; use scene = 'drop' or 'elliptical_drop'".into(),
         )),

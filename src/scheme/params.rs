@@ -1,6 +1,6 @@
 //! Constants of the weakly compressible schemes, resolved once from the configuration.
 
-use crate::config::{ArtificialStressKind, ConformationMethod, SceneConfig};
+use crate::config::{ArtificialStressKind, ConformationMethod, SceneConfig, ViscousOperator};
 use crate::eos::Eos;
 use crate::neighbors::Domain;
 use crate::Vec2;
@@ -20,6 +20,8 @@ pub struct Params {
     pub method: ConformationMethod,
     /// EVSS alpha_V / (1 - beta) (King & Lind eqs. 6-8); 0 = off.
     pub evss_alpha: f64,
+    /// Whether the solvent viscosity goes through Morris' Laplacian even without EVSS.
+    pub viscous_laplacian: bool,
     /// PDRI: steps between density reinitialisations (0 = never).
     pub reinit_interval: u64,
     /// Void fraction beyond which the fluid counts as torn (0 = never check).
@@ -47,6 +49,7 @@ impl Params {
             dt_factor: cfg.time_step_factor,
             method: cfg.conformation_method,
             evss_alpha: cfg.evss_alpha,
+            viscous_laplacian: cfg.viscous_operator == ViscousOperator::Laplacian,
             reinit_interval: cfg.density_reinit_interval.max(0) as u64,
             fracture_void_fraction: cfg.fracture_void_fraction,
             dx: cfg.dx(),

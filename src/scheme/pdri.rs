@@ -28,11 +28,10 @@
 
 use super::health::check_health;
 use super::params::Params;
-use super::wc::WcCore;
+use super::wc::{ghost_walls, WcCore};
 use super::Scheme;
-use crate::boundary::ghost::{GhostWall, WallModel};
+use crate::boundary::ghost::WallModel;
 use crate::boundary::plate::Plate;
-use crate::boundary::Boundary;
 use crate::kernel::Kernel;
 use crate::neighbors::Domain;
 use crate::particles::Fluid;
@@ -67,13 +66,7 @@ impl<K: Kernel, R: Rheology> Pdri<K, R> {
     /// The scheme for the walls `plates` of the initial state, each with Ren's wall and ghost
     /// particles.
     pub fn new(kernel: K, model: R, p: Params, plates: &[Plate]) -> Self {
-        let walls = plates
-            .iter()
-            .map(|_| {
-                Box::new(GhostWall::new(kernel, WallModel::Ren, p.domain, p.dx))
-                    as Box<dyn Boundary>
-            })
-            .collect();
+        let walls = ghost_walls(kernel, WallModel::Ren, &p, plates);
         Self {
             core: WcCore::new(kernel, model, p, walls),
             first: Fluid::default(),

@@ -20,6 +20,7 @@
 //! the same code runs in periodic boxes.
 
 use super::params::Params;
+use crate::boundary::ghost::{GhostWall, WallModel};
 use crate::boundary::plate::Plate;
 use crate::boundary::Boundary;
 use crate::kernel::Kernel;
@@ -39,6 +40,19 @@ const SKIN: f64 = 0.25;
 /// handing it to another thread. Light passes (a few flops per particle) take many more.
 pub(crate) const MIN_TASK: usize = 64;
 pub(crate) const MIN_TASK_LIGHT: usize = 1024;
+
+/// One wall model of kind `model` (Fang's or Ren's virtual particles) per plate.
+pub fn ghost_walls<K: Kernel>(
+    kernel: K,
+    model: WallModel,
+    p: &Params,
+    plates: &[Plate],
+) -> Vec<Box<dyn Boundary>> {
+    plates
+        .iter()
+        .map(|_| Box::new(GhostWall::new(kernel, model, p.domain, p.dx)) as Box<dyn Boundary>)
+        .collect()
+}
 
 /// What one rate evaluation reports besides the per-particle rates.
 #[derive(Debug, Clone, Copy, Default)]
@@ -127,6 +141,11 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
             acc: Vec::new(),
             wall_acc: Vec::new(),
         }
+    }
+
+    /// Whether the viscous force goes through Morris' Laplacian (EVSS, or chosen).
+    fn laplacian(&self) -> bool {
+        self.evss.is_on() || self.p.viscous_laplacian
     }
 
     fn search_radius(&self) -> f64 {
@@ -304,6 +323,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
         let (nlist, dom) = (&self.nlist, &self.p.domain);
         let r2max = kernel.radius().powi(2);
         let need_hess = art.needs_hessian();
+        let laplacian = self.laplacian();
         let js = nlist.split_mut(&mut self.pairs.j);
         let gs = nlist.split_mut(&mut self.pairs.grad);
         let ws = nlist.split_mut(&mut self.pairs.w);
@@ -357,8 +377,14 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
                     let eta = model.solvent_viscosity(&kin.kappa);
                     *mu_i = evss.viscous_viscosity(eta);
                     let tau = R::ELASTIC.then(|| &tau_p[i]);
-                    let sigma =
-                        stress::assemble(p.eos.pressure(fl.rho[i]), eta, &kin.kappa, tau, &evss);
+                    let sigma = stress::assemble(
+                        p.eos.pressure(fl.rho[i]),
+                        eta,
+                        &kin.kappa,
+                        tau,
+                        &evss,
+                        laplacian,
+                    );
                     *sigma_i = sigma;
                     *art_i = art.of_particle(&sigma, fl.rho[i], &hess);
                 },
@@ -387,7 +413,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
             let h = self.kernel.h();
             let art = &self.art;
             let use_art = art.is_on();
-            let morris = self.evss.is_on();
+            let morris = self.laplacian();
             let eta2 = MORRIS_ETA2 * h * h;
             (&mut self.acc[..], &mut self.wall_acc[..])
                 .into_par_iter()

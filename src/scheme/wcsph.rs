@@ -31,11 +31,10 @@
 
 use super::health::check_health;
 use super::params::Params;
-use super::wc::WcCore;
+use super::wc::{ghost_walls, WcCore};
 use super::Scheme;
-use crate::boundary::ghost::{keep_above_plate, GhostWall, WallModel};
+use crate::boundary::ghost::{keep_above_plate, WallModel};
 use crate::boundary::plate::Plate;
-use crate::boundary::Boundary;
 use crate::kernel::Kernel;
 use crate::particles::Fluid;
 use crate::rheology::Rheology;
@@ -53,13 +52,7 @@ impl<K: Kernel, R: Rheology> Wcsph<K, R> {
     /// The scheme for the walls `plates` of the initial state, each with Fang's boundary and
     /// image particles.
     pub fn new(kernel: K, model: R, p: Params, plates: &[Plate]) -> Self {
-        let walls = plates
-            .iter()
-            .map(|_| {
-                Box::new(GhostWall::new(kernel, WallModel::Fang, p.domain, p.dx))
-                    as Box<dyn Boundary>
-            })
-            .collect();
+        let walls = ghost_walls(kernel, WallModel::Fang, &p, plates);
         Self {
             core: WcCore::new(kernel, model, p, walls),
             half: Fluid::default(),
