@@ -1,0 +1,470 @@
+//! Steady fully developed channel flow of the constitutive models of King & Lind 2021 Table I
+//! (and Newtonian), driven by the body force of the `channel` scene.
+//!
+//! **Momentum.** At steady state rho g + d tau/dy = 0 with tau = 0 on the centre line, so the
+//! total shear stress is known exactly whatever the model: tau(y) = rho g (H/2 - y). At each y
+//! the local flow is steady simple shear at the (unknown) rate gamma = du/dy, and
+//! tau = eta_s gamma + tau_p,xy(gamma).
+//!
+//! **Steady simple shear, parametrised by the polymer shear stress.** With the modulus
+//! G = eta_p / lambda, Wi = lambda gamma and T = tau_p,xy / G, every model of Table I
+//! (tau_p = G f_S(A), upper-convected dA/dt = -f_R(A)/lambda) gives Wi and the normal stresses as
+//! explicit functions of T (derived from the xx, xy, yy components of the steady conformation
+//! equation; A_yy, A_xy, A_xx are eliminated):
+//!
+//! | model | Wi(T) | tau_p,xx / G | tau_p,yy / G |
+//! |---|---|---|---|
+//! | Oldroyd-B, UCM | T | 2 T^2 | 0 |
+//! | FENE-CR | T | 2 T^2 phi, phi = 2(1 - 2/L^2) / (1 + sqrt(1 + 8 T^2 (1 - 2/L^2)/L^2)) | 0 |
+//! | FENE-P | T (1 + (2 + 2 T^2)/L^2) | 2 T^2 | 0 |
+//! | linear PTT | T (1 + 2 eps T^2) | 2 T^2 | 0 |
+//! | exponential PTT | T exp(2 eps T^2) | 2 T^2 | 0 |
+//! | Giesekus | T (1 + alpha (X + Y)) / (1 + Y) | X | Y |
+//!
+//! For Giesekus, the yy component Y + alpha (T^2 + Y^2) = 0 gives
+//! Y = -2 alpha T^2 / (1 + sqrt(1 - 4 alpha^2 T^2)), and eliminating Wi between the xy and xx
+//! components leaves a quadratic alpha X^2 + b X + c = 0 with b = 1 - 2 alpha T^2 / (1 + Y),
+//! c = alpha T^2 - 2 T^2 (1 + alpha Y)/(1 + Y) < 0, whose positive root is X. Y reaches -1 (and Wi
+//! infinity) at T_max = sqrt((1 - alpha)/alpha): the largest polymer shear stress a Giesekus fluid
+//! carries. This is the closed form of Yoo & Choi 1989 for beta = 0; with a solvent the flow
+//! curve T + beta/(1 - beta) Wi(T) rises without bound, so a solution exists for every wall stress
+//! (Schleiniger & Weinberger 1991, who showed the steady channel problem with solvent is
+//! well posed for alpha <= 1/2).
+//!
+//! **Solving for T at each y.** r = tau(y) / G = T + beta/(1 - beta) Wi(T), increasing in T:
+//! beta = 0: T = r; Oldroyd-B, FENE-CR: T = (1 - beta) r; FENE-P and linear PTT: a cubic
+//! p T^3 + q T = r with p, q > 0 (Cruz, Pinho & Oliveira 2005; Oliveira & Pinho 1999), solved
+//! by the hyperbolic form of Cardano's formula, T = 2 sqrt(q/3p) sinh(asinh((3r/2q)
+//! sqrt(3p/q)) / 3), which has no cancellation, then one Newton step; exponential PTT and
+//! Giesekus with beta > 0: bisection on the bracket [0, min(r/(1 + beta/(1-beta)), T_max)] (Wi >= T
+//! for these shear-thinning models) down to adjacent floating-point numbers.
+//!
+//! **Velocity.** u(y) = int_0^y gamma dy'. Changing variable to the stress (dy = -d tau / rho g)
+//! and splitting tau into its solvent and polymer parts,
+//!
+//! ```text
+//! u(y) = [ (eta_p / lambda^2) (I(T_w) - I(T(y))) + eta_s (gamma_w^2 - gamma(y)^2) / 2 ] / (rho g),
+//! I(T) = int_0^T Wi(T') dT'
+//! ```
+//!
+//! (subscript w: at the wall). I is a polynomial or exponential in closed form for every model
+//! but Giesekus (Oldroyd-B, FENE-CR: T^2/2; FENE-P: (1 + 2/L^2) T^2/2 + T^4/(2 L^2); linear PTT:
+//! T^2/2 + eps T^4/2; exponential PTT: expm1(2 eps T^2) / (4 eps)), so the velocity is exact to
+//! round-off. For Giesekus, by parts, I(T) = T Wi - int_0^Wi T(w) dw with the closed-form flow
+//! curve T(w) of Giesekus 1982 (bounded and smooth), integrated by the adaptive 20-point
+//! Gauss-Legendre rule on the panels [0, 1], [1, 2], [2, 4], ... to 1e-14 absolute per panel.
+//! The flow rate Q = 2 int_0^{H/2} u dy is integrated with the same adaptive rule in y to
+//! 1e-13 U H.
+
+use super::quadrature;
+use super::{AnalyticError, Channel};
+use crate::config::{RheologyKind, SceneConfig};
+
+/// A constitutive model with its own parameter (King & Lind 2021 Table I; names as in
+/// `config.rs`: `fene_L2`, `ptt_epsilon`, `giesekus_alpha`). UCM is [`SteadyModel::OldroydB`]
+/// with beta = 0.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum SteadyModel {
+    Newtonian,
+    OldroydB,
+    FeneCr { l2: f64 },
+    FeneP { l2: f64 },
+    PttLinear { epsilon: f64 },
+    PttExponential { epsilon: f64 },
+    Giesekus { alpha: f64 },
+}
+
+impl SteadyModel {
+    /// Wi = lambda gamma as a function of T = tau_p,xy / G (table of the module documentation).
+    pub fn weissenberg_of_stress(&self, t: f64) -> f64 {
+        match *self {
+            SteadyModel::Newtonian | SteadyModel::OldroydB | SteadyModel::FeneCr { .. } => t,
+            SteadyModel::FeneP { l2 } => t * (1.0 + (2.0 + 2.0 * t * t) / l2),
+            SteadyModel::PttLinear { epsilon } => t * (1.0 + 2.0 * epsilon * t * t),
+            SteadyModel::PttExponential { epsilon } => t * (2.0 * epsilon * t * t).exp(),
+            SteadyModel::Giesekus { alpha } => giesekus(alpha, t).0,
+        }
+    }
+
+    /// (tau_p,xx / G, tau_p,yy / G) as functions of T = tau_p,xy / G.
+    pub fn normal_stresses_of_stress(&self, t: f64) -> (f64, f64) {
+        match *self {
+            SteadyModel::Newtonian => (0.0, 0.0),
+            SteadyModel::FeneCr { l2 } => {
+                let k = 1.0 - 2.0 / l2;
+                let phi = 2.0 * k / (1.0 + (1.0 + 8.0 * t * t * k / l2).sqrt());
+                (2.0 * t * t * phi, 0.0)
+            }
+            SteadyModel::Giesekus { alpha } => {
+                let (_, x, y) = giesekus(alpha, t);
+                (x, y)
+            }
+            _ => (2.0 * t * t, 0.0),
+        }
+    }
+
+    /// Largest polymer shear stress / G the model sustains in steady shear (infinite except for
+    /// Giesekus: sqrt((1 - alpha)/alpha)).
+    pub fn max_stress(&self) -> f64 {
+        match *self {
+            SteadyModel::Giesekus { alpha } if alpha > 0.0 => ((1.0 - alpha) / alpha).sqrt(),
+            _ => f64::INFINITY,
+        }
+    }
+
+    /// I(T) = int_0^T Wi(T') dT' (module documentation).
+    fn int_weissenberg(&self, t: f64) -> f64 {
+        let t2 = t * t;
+        match *self {
+            SteadyModel::Newtonian | SteadyModel::OldroydB | SteadyModel::FeneCr { .. } => 0.5 * t2,
+            SteadyModel::FeneP { l2 } => 0.5 * (1.0 + 2.0 / l2) * t2 + 0.5 * t2 * t2 / l2,
+            SteadyModel::PttLinear { epsilon } => 0.5 * t2 + 0.5 * epsilon * t2 * t2,
+            SteadyModel::PttExponential { epsilon } => {
+                if epsilon == 0.0 {
+                    0.5 * t2
+                } else {
+                    (2.0 * epsilon * t2).exp_m1() / (4.0 * epsilon)
+                }
+            }
+            SteadyModel::Giesekus { alpha } => {
+                let wi = giesekus(alpha, t).0;
+                if alpha == 0.0 {
+                    return 0.5 * t2;
+                }
+                // By parts: T Wi - int_0^Wi T(w) dw on dyadic panels.
+                let mut f = |w: f64| giesekus_flow_curve(alpha, w);
+                let mut sum = 0.0;
+                let (mut lo, mut hi) = (0.0, 1.0f64.min(wi));
+                while lo < wi {
+                    sum += quadrature::adaptive(&mut f, lo, hi, 1e-14, 1);
+                    lo = hi;
+                    hi = (2.0 * hi).min(wi);
+                }
+                t * wi - sum
+            }
+        }
+    }
+
+    fn name(&self) -> &'static str {
+        match self {
+            SteadyModel::Newtonian => "newtonian",
+            SteadyModel::OldroydB => "oldroyd_b",
+            SteadyModel::FeneCr { .. } => "fene_cr",
+            SteadyModel::FeneP { .. } => "fene_p",
+            SteadyModel::PttLinear { .. } => "ptt_linear",
+            SteadyModel::PttExponential { .. } => "ptt_exponential",
+            SteadyModel::Giesekus { .. } => "giesekus",
+        }
+    }
+}
+
+/// Giesekus steady shear from T = tau_p,xy / G: (Wi, tau_p,xx / G, tau_p,yy / G), module
+/// documentation. alpha = 0 gives Oldroyd-B exactly (the roots are written without 1/alpha).
+fn giesekus(alpha: f64, t: f64) -> (f64, f64, f64) {
+    let t2 = t * t;
+    let disc = 1.0 - 4.0 * alpha * alpha * t2;
+    if disc < 0.0 {
+        return (f64::INFINITY, f64::INFINITY, -1.0);
+    }
+    let y = -2.0 * alpha * t2 / (1.0 + disc.sqrt());
+    let b = 1.0 - 2.0 * alpha * t2 / (1.0 + y);
+    let c = alpha * t2 - 2.0 * t2 * (1.0 + alpha * y) / (1.0 + y);
+    let d = (b * b - 4.0 * alpha * c).sqrt();
+    let x = if b > 0.0 {
+        -2.0 * c / (b + d)
+    } else {
+        (d - b) / (2.0 * alpha)
+    };
+    let wi = t * (1.0 + alpha * (x + y)) / (1.0 + y);
+    (wi, x, y)
+}
+
+/// Giesekus flow curve T(Wi) = tau_p,xy / G in closed form (Giesekus 1982; Bird, Armstrong &
+/// Hassager 1987 vol. 1): T = Wi (1 - f)^2 / (1 + (1 - 2 alpha) f),
+/// f = (1 - chi) / (1 + (1 - 2 alpha) chi), chi^2 = (sqrt(1 + 16 alpha (1 - alpha) Wi^2) - 1) /
+/// (8 alpha (1 - alpha) Wi^2), written as 2 / (sqrt(1 + 2k) + 1) against cancellation.
+pub fn giesekus_flow_curve(alpha: f64, wi: f64) -> f64 {
+    let k = 8.0 * alpha * (1.0 - alpha) * wi * wi;
+    let chi = (2.0 / ((1.0 + 2.0 * k).sqrt() + 1.0)).sqrt();
+    let f = (1.0 - chi) / (1.0 + (1.0 - 2.0 * alpha) * chi);
+    wi * (1.0 - f) * (1.0 - f) / (1.0 + (1.0 - 2.0 * alpha) * f)
+}
+
+/// Steady state at one height.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SteadyPoint {
+    /// Velocity u(y) \[m/s\].
+    pub velocity: f64,
+    /// Shear rate du/dy \[1/s\].
+    pub shear_rate: f64,
+    /// Total shear stress rho g (H/2 - y) \[Pa\].
+    pub tau_xy: f64,
+    /// Polymer stress components \[Pa\].
+    pub tau_p_xy: f64,
+    pub tau_p_xx: f64,
+    pub tau_p_yy: f64,
+}
+
+/// The steady channel flow of one model. See the module documentation.
+#[derive(Debug, Clone)]
+pub struct SteadyChannel {
+    ch: Channel,
+    model: SteadyModel,
+    /// The flow is Newtonian with viscosity eta0 (Newtonian model, lambda = 0 or beta = 1).
+    viscous: bool,
+    /// G = eta_p / lambda.
+    modulus: f64,
+    /// T at the wall, Wi at the wall and I(T_w).
+    t_w: f64,
+    wi_w: f64,
+    i_w: f64,
+}
+
+impl SteadyChannel {
+    /// The steady flow of `model` in the channel `ch`. Fails on out-of-range model parameters
+    /// (FENE L^2 <= 2, eps < 0, alpha outside [0, 1/2]) and when no steady state exists
+    /// (Giesekus, beta = 0, wall stress above sqrt((1 - alpha)/alpha) eta_p / lambda).
+    pub fn new(ch: Channel, model: SteadyModel) -> Result<Self, AnalyticError> {
+        ch.check()?;
+        let bad = |name, value, allowed| {
+            Err(AnalyticError::Parameter {
+                name,
+                value,
+                allowed,
+            })
+        };
+        match model {
+            SteadyModel::FeneCr { l2 } | SteadyModel::FeneP { l2 } if !(l2 > 2.0) => {
+                return bad("fene_L2", l2, "> 2")
+            }
+            SteadyModel::PttLinear { epsilon } | SteadyModel::PttExponential { epsilon }
+                if !(epsilon >= 0.0 && epsilon.is_finite()) =>
+            {
+                return bad("ptt_epsilon", epsilon, ">= 0")
+            }
+            SteadyModel::Giesekus { alpha } if !(0.0..=0.5).contains(&alpha) => {
+                return bad("giesekus_alpha", alpha, "0 <= alpha <= 1/2")
+            }
+            _ => {}
+        }
+        let viscous = model == SteadyModel::Newtonian
+            || ch.relaxation_time == 0.0
+            || ch.viscosity_ratio >= 1.0;
+        let mut s = Self {
+            ch,
+            model,
+            viscous,
+            modulus: 0.0,
+            t_w: 0.0,
+            wi_w: 0.0,
+            i_w: 0.0,
+        };
+        if !viscous {
+            s.modulus = (1.0 - ch.viscosity_ratio) * ch.viscosity / ch.relaxation_time;
+            let r_w = ch.steady_wall_shear_stress() / s.modulus;
+            if ch.viscosity_ratio == 0.0 && r_w >= model.max_stress() {
+                return Err(AnalyticError::NoSteadyState {
+                    wall: ch.steady_wall_shear_stress(),
+                    max: model.max_stress() * s.modulus,
+                });
+            }
+            s.t_w = s.solve(r_w);
+            s.wi_w = model.weissenberg_of_stress(s.t_w);
+            s.i_w = model.int_weissenberg(s.t_w);
+        }
+        Ok(s)
+    }
+
+    /// From the scene's configuration (`rheology`, `density`, `viscosity`, `viscosity_ratio`,
+    /// `relaxation_time`, `fene_L2`, `ptt_epsilon`, `giesekus_alpha`) and the channel's width and
+    /// body force. UCM is Oldroyd-B with beta = 0; Cross is not covered.
+    pub fn from_config(
+        cfg: &SceneConfig,
+        width: f64,
+        body_force: f64,
+    ) -> Result<Self, AnalyticError> {
+        let mut ch = Channel {
+            density: cfg.density,
+            body_force,
+            width,
+            viscosity: cfg.viscosity,
+            viscosity_ratio: cfg.viscosity_ratio,
+            relaxation_time: cfg.relaxation_time,
+        };
+        let model = match cfg.rheology {
+            RheologyKind::Newtonian => {
+                ch.viscosity_ratio = 1.0;
+                ch.relaxation_time = 0.0;
+                SteadyModel::Newtonian
+            }
+            RheologyKind::OldroydB => SteadyModel::OldroydB,
+            RheologyKind::Ucm => {
+                ch.viscosity_ratio = 0.0;
+                SteadyModel::OldroydB
+            }
+            RheologyKind::FeneCr => SteadyModel::FeneCr { l2: cfg.fene_L2 },
+            RheologyKind::FeneP => SteadyModel::FeneP { l2: cfg.fene_L2 },
+            RheologyKind::PttLinear => SteadyModel::PttLinear {
+                epsilon: cfg.ptt_epsilon,
+            },
+            RheologyKind::PttExponential => SteadyModel::PttExponential {
+                epsilon: cfg.ptt_epsilon,
+            },
+            RheologyKind::Giesekus => SteadyModel::Giesekus {
+                alpha: cfg.giesekus_alpha,
+            },
+            RheologyKind::Cross => {
+                return Err(AnalyticError::Unsupported {
+                    model: "cross",
+                    what: "steady channel",
+                })
+            }
+        };
+        Self::new(ch, model)
+    }
+
+    /// The channel and fluid parameters.
+    pub fn channel(&self) -> &Channel {
+        &self.ch
+    }
+
+    /// The model.
+    pub fn model(&self) -> SteadyModel {
+        self.model
+    }
+
+    /// Polymer modulus G = eta_p / lambda \[Pa\] (0 for a viscous flow).
+    pub fn modulus(&self) -> f64 {
+        self.modulus
+    }
+
+    /// T solving T + beta/(1 - beta) Wi(T) = r (module documentation).
+    fn solve(&self, r: f64) -> f64 {
+        let beta = self.ch.viscosity_ratio;
+        if r == 0.0 {
+            return 0.0;
+        }
+        if beta == 0.0 {
+            return r;
+        }
+        let c1 = beta / (1.0 - beta);
+        let cubic = |p: f64, q: f64| {
+            if p == 0.0 {
+                return r / q;
+            }
+            let k = (q / (3.0 * p)).sqrt();
+            let mut t = 2.0 * k * ((1.5 * r / q / k).asinh() / 3.0).sinh();
+            t -= (p * t * t * t + q * t - r) / (3.0 * p * t * t + q);
+            t
+        };
+        match self.model {
+            SteadyModel::Newtonian | SteadyModel::OldroydB | SteadyModel::FeneCr { .. } => {
+                r / (1.0 + c1)
+            }
+            SteadyModel::FeneP { l2 } => cubic(2.0 * c1 / l2, 1.0 + c1 * (1.0 + 2.0 / l2)),
+            SteadyModel::PttLinear { epsilon } => cubic(2.0 * c1 * epsilon, 1.0 + c1),
+            SteadyModel::PttExponential { .. } | SteadyModel::Giesekus { .. } => {
+                let hi = (r / (1.0 + c1)).min(self.model.max_stress());
+                bisect(
+                    |t| t + c1 * self.model.weissenberg_of_stress(t) - r,
+                    0.0,
+                    hi,
+                )
+            }
+        }
+    }
+
+    /// The steady state at height y (0 <= y <= H).
+    pub fn at(&self, y: f64) -> SteadyPoint {
+        let ch = &self.ch;
+        let h = ch.width;
+        let rg = ch.density * ch.body_force;
+        let tau = rg * (0.5 * h - y);
+        let sign = if tau < 0.0 { -1.0 } else { 1.0 };
+        if self.viscous {
+            let eta_p = if self.model == SteadyModel::Newtonian {
+                0.0
+            } else {
+                (1.0 - ch.viscosity_ratio) * ch.viscosity
+            };
+            let gamma = tau / ch.viscosity;
+            return SteadyPoint {
+                velocity: rg * y * (h - y) / (2.0 * ch.viscosity),
+                shear_rate: gamma,
+                tau_xy: tau,
+                tau_p_xy: eta_p * gamma,
+                tau_p_xx: 0.0,
+                tau_p_yy: 0.0,
+            };
+        }
+        let lambda = ch.relaxation_time;
+        let eta_s = ch.viscosity_ratio * ch.viscosity;
+        let g = self.modulus;
+        let t = self.solve(tau.abs() / g);
+        let wi = self.model.weissenberg_of_stress(t);
+        let (txx, tyy) = self.model.normal_stresses_of_stress(t);
+        let gamma = wi / lambda;
+        let gamma_w = self.wi_w / lambda;
+        let velocity = ((g / lambda) * (self.i_w - self.model.int_weissenberg(t))
+            + 0.5 * eta_s * (gamma_w * gamma_w - gamma * gamma))
+            / rg;
+        SteadyPoint {
+            velocity,
+            shear_rate: sign * gamma,
+            tau_xy: tau,
+            tau_p_xy: sign * g * t,
+            tau_p_xx: g * txx,
+            tau_p_yy: g * tyy,
+        }
+    }
+
+    /// Velocity u(y) \[m/s\].
+    pub fn velocity(&self, y: f64) -> f64 {
+        self.at(y).velocity
+    }
+
+    /// Centre-line velocity u(H/2) \[m/s\].
+    pub fn centreline_velocity(&self) -> f64 {
+        self.velocity(0.5 * self.ch.width)
+    }
+
+    /// Total wall shear stress rho g H / 2 \[Pa\] (every model).
+    pub fn wall_shear_stress_total(&self) -> f64 {
+        self.ch.steady_wall_shear_stress()
+    }
+
+    /// Polymer part of the wall shear stress \[Pa\].
+    pub fn wall_shear_stress_polymer(&self) -> f64 {
+        self.at(0.0).tau_p_xy
+    }
+
+    /// Flow rate per unit depth int_0^H u dy \[m2/s\].
+    pub fn flow_rate(&self) -> f64 {
+        let h = self.ch.width;
+        let tol = 1e-13 * self.ch.velocity_scale() * h;
+        2.0 * quadrature::adaptive(&mut |y| self.velocity(y), 0.0, 0.5 * h, 0.5 * tol, 4)
+    }
+
+    /// The model name (config spelling).
+    pub fn model_name(&self) -> &'static str {
+        self.model.name()
+    }
+}
+
+/// Root of an increasing f on [lo, hi] with f(lo) <= 0 by bisection down to adjacent
+/// floating-point numbers (f may be infinite or NaN at hi: treated as positive).
+fn bisect(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
+    for _ in 0..2000 {
+        let mid = 0.5 * (lo + hi);
+        if mid <= lo || mid >= hi {
+            break;
+        }
+        let v = f(mid);
+        if v.is_nan() || v > 0.0 {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
