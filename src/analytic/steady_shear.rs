@@ -468,3 +468,458 @@ fn bisect(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
     }
     0.5 * (lo + hi)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analytic::WatersKing;
+    use crate::rheology::{
+        conformation_rate, FeneCr, FeneP, Giesekus, OldroydB, PttExponential, PttLinear, Rheology,
+    };
+    use crate::Mat2;
+
+    /// King & Lind section IV.A channel: Re = Wi = 1 (H = U = rho = 1, g = 8, eta0 = 1,
+    /// lambda = 1).
+    fn kl(beta: f64) -> Channel {
+        Channel::from_re_wi(1.0, 1.0, beta)
+    }
+
+    fn heights() -> [f64; 6] {
+        [0.0, 0.05, 0.2, 0.37, 0.5, 0.8]
+    }
+
+    /// The models of the cross-checks, with King & Lind's parameters where they give them.
+    fn models() -> Vec<SteadyModel> {
+        vec![
+            SteadyModel::OldroydB,
+            SteadyModel::FeneCr { l2: 100.0 },
+            SteadyModel::FeneCr { l2: 10.0 },
+            SteadyModel::FeneP { l2: 100.0 },
+            SteadyModel::FeneP { l2: 10.0 },
+            SteadyModel::PttLinear { epsilon: 0.25 },
+            SteadyModel::PttExponential { epsilon: 0.05 },
+            SteadyModel::PttExponential { epsilon: 0.25 },
+            SteadyModel::Giesekus { alpha: 0.1 },
+            SteadyModel::Giesekus { alpha: 0.5 },
+        ]
+    }
+
+    /// Every (channel, model) pair the cross-checks run: King & Lind's Re = Wi = 1 channel at
+    /// beta = 0, 0.1, 0.5 (Giesekus at beta = 0 has no steady state there: the wall stress 4 G
+    /// exceeds sqrt((1 - alpha)/alpha) G), plus Giesekus at beta = 0 in their Fig. 8 channel
+    /// (Re = 1, Wi = 0.25).
+    fn cases() -> Vec<(Channel, SteadyModel)> {
+        let mut out = Vec::new();
+        for beta in [0.0, 0.1, 0.5] {
+            for m in models() {
+                if !(beta == 0.0 && matches!(m, SteadyModel::Giesekus { .. })) {
+                    out.push((kl(beta), m));
+                }
+            }
+        }
+        for alpha in [0.1, 0.3, 0.45] {
+            out.push((
+                Channel::from_re_wi(1.0, 0.25, 0.0),
+                SteadyModel::Giesekus { alpha },
+            ));
+        }
+        out
+    }
+
+    fn rel(a: f64, b: f64) -> f64 {
+        (a - b).abs() / b.abs().max(1e-300)
+    }
+
+    /// Root of an increasing function on [lo, hi] by plain bisection (independent of the
+    /// module's solver).
+    fn bisect_ref(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
+        assert!(f(lo) <= 0.0 && f(hi) >= 0.0);
+        for _ in 0..200 {
+            let m = 0.5 * (lo + hi);
+            if f(m) > 0.0 {
+                hi = m
+            } else {
+                lo = m
+            }
+        }
+        0.5 * (lo + hi)
+    }
+
+    #[test]
+    fn oldroyd_b_ucm_and_newtonian_are_the_parabola() {
+        for (model, beta) in [
+            (SteadyModel::OldroydB, 0.1),
+            (SteadyModel::OldroydB, 0.0),
+            (SteadyModel::Newtonian, 0.1),
+        ] {
+            let s = SteadyChannel::new(kl(beta), model).unwrap();
+            for y in heights() {
+                let p = s.at(y);
+                let eta = y;
+                assert!(
+                    (p.velocity - 4.0 * eta * (1.0 - eta)).abs() < 1e-14,
+                    "{model:?} {y}"
+                );
+                assert!((p.shear_rate - 4.0 * (1.0 - 2.0 * eta)).abs() < 1e-13);
+                assert!((p.tau_xy - 4.0 * (1.0 - 2.0 * eta)).abs() < 1e-14);
+                if model == SteadyModel::OldroydB {
+                    let eta_p = 1.0 - beta;
+                    assert!((p.tau_p_xy - eta_p * p.shear_rate).abs() < 1e-13);
+                    let txx = 2.0 * eta_p * p.shear_rate * p.shear_rate;
+                    assert!((p.tau_p_xx - txx).abs() < 1e-12, "{} {txx}", p.tau_p_xx);
+                    assert_eq!(p.tau_p_yy, 0.0);
+                }
+            }
+            assert!(
+                (s.flow_rate() - 2.0 / 3.0).abs() < 1e-13,
+                "{}",
+                s.flow_rate()
+            );
+            assert!((s.centreline_velocity() - 1.0).abs() < 1e-14);
+        }
+        // The steady state of the Waters & King solution.
+        let s = SteadyChannel::new(kl(0.1), SteadyModel::OldroydB).unwrap();
+        assert_eq!(s.at(0.0).tau_p_xx, 28.8);
+        assert!((s.wall_shear_stress_polymer() - 3.6).abs() < 1e-14);
+        let wk = WatersKing::new(kl(0.1)).unwrap();
+        for y in heights() {
+            assert!((wk.velocity(y, 300.0) - s.velocity(y)).abs() < 1e-12);
+            let d = wk.shear_stress_polymer(y, 300.0) - s.at(y).tau_p_xy;
+            assert!(d.abs() < 1e-12);
+        }
+    }
+
+    /// Independent steady simple-shear stresses (tau_xy, tau_xx, tau_yy) at Wi = lambda gamma
+    /// with G = 1: published closed forms and the steady-state algebra solved by bisection (as in
+    /// `tests/rheology.rs`).
+    fn reference_stresses(model: SteadyModel, wi: f64) -> (f64, f64, f64) {
+        match model {
+            SteadyModel::Newtonian => (0.0, 0.0, 0.0),
+            SteadyModel::OldroydB => (wi, 2.0 * wi * wi, 0.0),
+            SteadyModel::FeneCr { l2 } => {
+                // A_yy = 1, A_xy = Wi/F, A_xx = 1 + 2 Wi^2/F^2, F = 1/(1 - tr A / L^2).
+                let f = bisect_ref(
+                    |f| f * (1.0 - (2.0 + 2.0 * wi * wi / (f * f)) / l2) - 1.0,
+                    1.0,
+                    1e6,
+                );
+                (wi, 2.0 * wi * wi / f, 0.0)
+            }
+            SteadyModel::FeneP { l2 } => {
+                // L^2 f^3 - (L^2 + 2) f^2 - 2 Wi^2 = 0.
+                let f = bisect_ref(
+                    |f| l2 * f.powi(3) - (l2 + 2.0) * f * f - 2.0 * wi * wi,
+                    1.0,
+                    1e6,
+                );
+                (wi / f, 2.0 * wi * wi / (f * f), 0.0)
+            }
+            SteadyModel::PttLinear { epsilon } => {
+                let s = 2.0 * epsilon * wi * wi;
+                let h = bisect_ref(|h| h - 1.0 - s / (h * h), 1.0, 1.0 + s);
+                (wi / h, 2.0 * wi * wi / (h * h), 0.0)
+            }
+            SteadyModel::PttExponential { epsilon } => {
+                let s = 2.0 * epsilon * wi * wi;
+                let f = |h: f64| h - (s / (h * h)).exp();
+                let mut hi = 2.0;
+                while f(hi) < 0.0 {
+                    hi *= 2.0;
+                }
+                let h = bisect_ref(f, 1.0, hi);
+                (wi / h, 2.0 * wi * wi / (h * h), 0.0)
+            }
+            SteadyModel::Giesekus { alpha } => {
+                // Giesekus 1982; Bird, Armstrong & Hassager 1987: viscosity and Psi1 in terms of
+                // chi and f; tau_yy from tau_yy + alpha (tau_xy^2 + tau_yy^2) = 0.
+                let k = 8.0 * alpha * (1.0 - alpha) * wi * wi;
+                let chi = (((1.0 + 2.0 * k).sqrt() - 1.0) / k).sqrt();
+                let f = (1.0 - chi) / (1.0 + (1.0 - 2.0 * alpha) * chi);
+                let txy = wi * (1.0 - f).powi(2) / (1.0 + (1.0 - 2.0 * alpha) * f);
+                let n1 = 2.0 * f * (1.0 - alpha * f) / (alpha * (1.0 - f));
+                let tyy = ((1.0 - 4.0 * alpha * alpha * txy * txy).sqrt() - 1.0) / (2.0 * alpha);
+                (txy, n1 + tyy, tyy)
+            }
+        }
+    }
+
+    #[test]
+    fn profiles_match_independent_closed_forms() {
+        for (ch, model) in cases() {
+            {
+                let beta = ch.viscosity_ratio;
+                let s = SteadyChannel::new(ch, model).unwrap();
+                let g = s.modulus();
+                let eta_s = beta * ch.viscosity;
+                let mut worst: f64 = 0.0;
+                for y in heights() {
+                    let p = s.at(y);
+                    // Momentum: eta_s gamma + tau_p,xy is the known total stress.
+                    let tot = eta_s * p.shear_rate + p.tau_p_xy;
+                    assert!((tot - p.tau_xy).abs() < 1e-12 * 4.0, "{model:?} {y}: {tot}");
+                    let (txy, txx, tyy) =
+                        reference_stresses(model, ch.relaxation_time * p.shear_rate.abs());
+                    let sign = p.shear_rate.signum();
+                    let e = [
+                        (p.tau_p_xy - sign * g * txy).abs() / (g * txy.abs()).max(1e-300),
+                        (p.tau_p_xx - g * txx).abs() / (g * txx).max(1e-300),
+                        (p.tau_p_yy - g * tyy).abs() / (g * txy.abs()).max(1e-300),
+                    ];
+                    if y != 0.5 {
+                        for ei in e {
+                            worst = worst.max(ei);
+                        }
+                    } else {
+                        assert!(p.tau_p_xy == 0.0 && p.tau_p_xx == 0.0 && p.shear_rate == 0.0);
+                    }
+                    // Velocity: the closed-form antiderivative against adaptive Gauss-Legendre
+                    // quadrature of the shear rate, int_0^y gamma dy'.
+                    if y > 0.0 {
+                        let quad =
+                            quadrature::adaptive(&mut |yy| s.at(yy).shear_rate, 0.0, y, 1e-13, 8);
+                        assert!(
+                            (quad - p.velocity).abs() < 1e-11,
+                            "{model:?} beta {beta} y {y}: {quad} {}",
+                            p.velocity
+                        );
+                    }
+                }
+                println!(
+                    "{model:?} beta {beta}: u_c {:.10} Q {:.10} wall Wi {:.4}; worst relative \
+                     stress difference to the closed form {worst:.1e}",
+                    s.centreline_velocity(),
+                    s.flow_rate(),
+                    ch.relaxation_time * s.at(0.0).shear_rate
+                );
+                // Bisection to 200 halvings and closed forms with square roots: ~1e-13.
+                assert!(worst < 1e-10, "{model:?} beta {beta}: {worst:e}");
+            }
+        }
+    }
+
+    /// Steady state of dA/dt = kappa A + A kappa^T - f_R(A)/lambda under the shear rate
+    /// `gamma`, by classical RK4 from the model's rest state until |dA/dt| lambda < 1e-13 |A|
+    /// or the increments drop below round-off.
+    fn homogeneous_steady<R: Rheology>(model: &R, gamma: f64) -> Mat2 {
+        let kappa = Mat2::new(0.0, gamma, 0.0, 0.0);
+        let lambda = model.relaxation_time();
+        let dt = lambda / (100.0 * (1.0 + lambda * gamma.abs()));
+        let mut a = model.rest_conformation();
+        let f = |a: &Mat2| conformation_rate(model, a, &kappa);
+        for _ in 0..10_000_000 {
+            let k1 = f(&a);
+            if k1.norm() * lambda < 1e-13 * a.norm() {
+                return a;
+            }
+            let k2 = f(&(a + k1 * (0.5 * dt)));
+            let k3 = f(&(a + k2 * (0.5 * dt)));
+            let k4 = f(&(a + k3 * dt));
+            let next = a + (k1 + k2 * 2.0 + k3 * 2.0 + k4) * (dt / 6.0);
+            if next == a {
+                // Increments below round-off: converged as far as this step size can tell.
+                return a;
+            }
+            a = next;
+        }
+        panic!("no steady state");
+    }
+
+    fn check_against_rheology<R: Rheology>(s: &SteadyChannel, model: &R) -> f64 {
+        let mut worst: f64 = 0.0;
+        for y in [0.0, 0.1, 0.3] {
+            let p = s.at(y);
+            let tau = model.polymer_stress(&homogeneous_steady(model, p.shear_rate));
+            let e = [
+                rel(tau[(0, 1)], p.tau_p_xy),
+                rel(tau[(0, 0)], p.tau_p_xx),
+                (tau[(1, 1)] - p.tau_p_yy).abs() / p.tau_p_xy.abs(),
+            ];
+            for ei in e {
+                worst = worst.max(ei);
+            }
+        }
+        worst
+    }
+
+    #[test]
+    fn profiles_match_the_constitutive_code() {
+        for (ch, model) in cases() {
+            {
+                let beta = ch.viscosity_ratio;
+                let s = SteadyChannel::new(ch, model).unwrap();
+                let (eta0, lam) = (ch.viscosity, ch.relaxation_time);
+                let worst = match model {
+                    SteadyModel::Newtonian => 0.0,
+                    SteadyModel::OldroydB => {
+                        check_against_rheology(&s, &OldroydB::new(eta0, beta, lam))
+                    }
+                    SteadyModel::FeneCr { l2 } => {
+                        check_against_rheology(&s, &FeneCr::new(eta0, beta, lam, l2))
+                    }
+                    SteadyModel::FeneP { l2 } => {
+                        check_against_rheology(&s, &FeneP::new(eta0, beta, lam, l2))
+                    }
+                    SteadyModel::PttLinear { epsilon } => {
+                        check_against_rheology(&s, &PttLinear::new(eta0, beta, lam, epsilon))
+                    }
+                    SteadyModel::PttExponential { epsilon } => {
+                        check_against_rheology(&s, &PttExponential::new(eta0, beta, lam, epsilon))
+                    }
+                    SteadyModel::Giesekus { alpha } => {
+                        check_against_rheology(&s, &Giesekus::new(eta0, beta, lam, alpha))
+                    }
+                };
+                println!(
+                    "{model:?} beta {beta}: worst relative difference to src/rheology {worst:.1e}"
+                );
+                assert!(worst < 1e-6, "{model:?} beta {beta}: {worst:e}");
+            }
+        }
+    }
+
+    #[test]
+    fn limits_reduce_to_oldroyd_b() {
+        for beta in [0.0, 0.1] {
+            let ob = SteadyChannel::new(kl(beta), SteadyModel::OldroydB).unwrap();
+            let same = [
+                SteadyModel::PttLinear { epsilon: 0.0 },
+                SteadyModel::PttExponential { epsilon: 0.0 },
+                SteadyModel::Giesekus { alpha: 0.0 },
+            ];
+            let near = [
+                SteadyModel::PttLinear { epsilon: 1e-9 },
+                SteadyModel::PttExponential { epsilon: 1e-9 },
+                SteadyModel::Giesekus { alpha: 1e-9 },
+                SteadyModel::FeneP { l2: 1e10 },
+                SteadyModel::FeneCr { l2: 1e10 },
+            ];
+            for (model, tol) in same
+                .iter()
+                .map(|m| (m, 1e-14))
+                .chain(near.iter().map(|m| (m, 1e-6)))
+            {
+                let s = SteadyChannel::new(kl(beta), *model).unwrap();
+                for y in heights() {
+                    let (a, b) = (s.at(y), ob.at(y));
+                    assert!(
+                        (a.velocity - b.velocity).abs() < tol,
+                        "{model:?} beta {beta} y {y}"
+                    );
+                    assert!((a.tau_p_xy - b.tau_p_xy).abs() < tol * 4.0);
+                    assert!(
+                        (a.tau_p_xx - b.tau_p_xx).abs() < tol * 30.0,
+                        "{model:?} {y}"
+                    );
+                    assert!(a.tau_p_yy.abs() < tol);
+                }
+            }
+            // FENE-CR has Oldroyd-B's viscosity at any L^2: the same velocity and shear stress,
+            // a smaller normal stress.
+            let cr = SteadyChannel::new(kl(beta), SteadyModel::FeneCr { l2: 10.0 }).unwrap();
+            for y in heights() {
+                let (a, b) = (cr.at(y), ob.at(y));
+                assert!((a.velocity - b.velocity).abs() < 1e-14);
+                assert!((a.tau_p_xy - b.tau_p_xy).abs() < 1e-14);
+                if y != 0.5 {
+                    assert!(a.tau_p_xx < b.tau_p_xx);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn shear_thinning_models_flow_faster() {
+        // FENE-P, PTT and Giesekus thin in shear: more flow than Oldroyd-B under the same
+        // pressure gradient, more for smaller L^2, larger eps or alpha (King & Lind Figs. 7, 8).
+        let uc = |m| {
+            SteadyChannel::new(kl(0.1), m)
+                .unwrap()
+                .centreline_velocity()
+        };
+        assert!(uc(SteadyModel::FeneP { l2: 10.0 }) > uc(SteadyModel::FeneP { l2: 100.0 }));
+        assert!(uc(SteadyModel::FeneP { l2: 100.0 }) > 1.0);
+        assert!(
+            uc(SteadyModel::PttLinear { epsilon: 0.5 })
+                > uc(SteadyModel::PttLinear { epsilon: 0.1 })
+        );
+        assert!(
+            uc(SteadyModel::PttExponential { epsilon: 0.1 })
+                > uc(SteadyModel::PttLinear { epsilon: 0.1 })
+        );
+        assert!(uc(SteadyModel::PttLinear { epsilon: 0.1 }) > 1.0);
+        // Giesekus, beta = 0, Wi = 0.25, Re = 1 (King & Lind Fig. 8): the centre-line velocity
+        // in units of the UCM one (U = 1) grows with alpha; at alpha = 1/2 the wall stress
+        // reaches the largest the model carries and there is no steady flow.
+        let fig8 = Channel::from_re_wi(1.0, 0.25, 0.0);
+        let mut last = 1.0;
+        for alpha in [0.0, 0.1, 0.2, 0.3, 0.4, 0.45] {
+            let s = SteadyChannel::new(fig8, SteadyModel::Giesekus { alpha }).unwrap();
+            let u = s.centreline_velocity();
+            println!(
+                "Giesekus Fig. 8 alpha {alpha}: u_c / U_UCM = {u:.6}, wall shear rate {:.4}",
+                s.at(0.0).shear_rate
+            );
+            assert!(if alpha == 0.0 {
+                (u - 1.0).abs() < 1e-14
+            } else {
+                u > last
+            });
+            last = u;
+        }
+        assert!(matches!(
+            SteadyChannel::new(fig8, SteadyModel::Giesekus { alpha: 0.5 }),
+            Err(AnalyticError::NoSteadyState { .. })
+        ));
+        // With a solvent there is always a steady flow.
+        assert!(SteadyChannel::new(
+            Channel::from_re_wi(1.0, 0.25, 0.01),
+            SteadyModel::Giesekus { alpha: 0.5 }
+        )
+        .is_ok());
+    }
+
+    #[test]
+    fn builds_from_the_scene_configuration() {
+        let mut cfg = SceneConfig::default();
+        cfg.density = 1.0;
+        cfg.viscosity = 1.0;
+        cfg.viscosity_ratio = 0.1;
+        cfg.relaxation_time = 1.0;
+        cfg.fene_L2 = 100.0;
+        cfg.ptt_epsilon = 0.25;
+        cfg.giesekus_alpha = 0.1;
+        for (kind, model) in [
+            (RheologyKind::FeneP, SteadyModel::FeneP { l2: 100.0 }),
+            (RheologyKind::FeneCr, SteadyModel::FeneCr { l2: 100.0 }),
+            (
+                RheologyKind::PttLinear,
+                SteadyModel::PttLinear { epsilon: 0.25 },
+            ),
+            (
+                RheologyKind::PttExponential,
+                SteadyModel::PttExponential { epsilon: 0.25 },
+            ),
+            (RheologyKind::Giesekus, SteadyModel::Giesekus { alpha: 0.1 }),
+            (RheologyKind::OldroydB, SteadyModel::OldroydB),
+            (RheologyKind::Ucm, SteadyModel::OldroydB),
+            (RheologyKind::Newtonian, SteadyModel::Newtonian),
+        ] {
+            cfg.rheology = kind;
+            let s = SteadyChannel::from_config(&cfg, 1.0, 8.0).unwrap();
+            assert_eq!(s.model(), model);
+            assert_eq!(
+                s.model_name(),
+                if kind == RheologyKind::Ucm {
+                    "oldroyd_b"
+                } else {
+                    kind.as_str()
+                }
+            );
+        }
+        cfg.rheology = RheologyKind::Cross;
+        assert!(SteadyChannel::from_config(&cfg, 1.0, 8.0).is_err());
+        cfg.rheology = RheologyKind::FeneP;
+        cfg.fene_L2 = 2.0;
+        assert!(SteadyChannel::from_config(&cfg, 1.0, 8.0).is_err());
+    }
+}
