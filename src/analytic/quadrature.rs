@@ -1,4 +1,5 @@
-//! Gauss-Legendre quadrature for the analytic solutions: fixed rules and an adaptive composite rule.
+//! Gauss-Legendre quadrature for the analytic solutions: fixed rules and an adaptive composite
+//! rule.
 //!
 //! An n-point Gauss-Legendre rule integrates polynomials of degree 2n - 1 exactly; for a function
 //! analytic in a Bernstein ellipse of parameter rho around the interval its error falls like
@@ -6,7 +7,7 @@
 //! so a 20-point rule on an interval short against the distance to the nearest singularity is
 //! at round-off. The nodes are computed here (Newton on the three-term Legendre recurrence,
 //! Golub & Welsch 1969 give the same numbers) rather than tabulated, so there is no transcription
-//! error to check; [`tests`] integrate polynomials of degree 2n - 1 exactly.
+//! error to check; the unit tests integrate polynomials of degree 2n - 1 exactly.
 
 use std::sync::OnceLock;
 

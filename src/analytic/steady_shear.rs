@@ -26,10 +26,10 @@
 //! components leaves a quadratic alpha X^2 + b X + c = 0 with b = 1 - 2 alpha T^2 / (1 + Y),
 //! c = alpha T^2 - 2 T^2 (1 + alpha Y)/(1 + Y) < 0, whose positive root is X. Y reaches -1 (and Wi
 //! infinity) at T_max = sqrt((1 - alpha)/alpha): the largest polymer shear stress a Giesekus fluid
-//! carries. This is the closed form of Yoo & Choi 1989 for beta = 0; with a solvent the flow
-//! curve T + beta/(1 - beta) Wi(T) rises without bound, so a solution exists for every wall stress
-//! (Schleiniger & Weinberger 1991, who showed the steady channel problem with solvent is
-//! well posed for alpha <= 1/2).
+//! carries: with beta = 0 (the case of Yoo & Choi 1989 that King & Lind use) a steady channel
+//! flow exists only if the wall stress is below T_max G. With a solvent the flow curve
+//! T + beta/(1 - beta) Wi(T) rises without bound, so a solution exists for every wall stress
+//! (the case Schleiniger & Weinberger 1991 analyse). Wi(T) >= T (the model thins in shear).
 //!
 //! **Solving for T at each y.** r = tau(y) / G = T + beta/(1 - beta) Wi(T), increasing in T:
 //! beta = 0: T = r; Oldroyd-B, FENE-CR: T = (1 - beta) r; FENE-P and linear PTT: a cubic
@@ -234,7 +234,7 @@ impl SteadyChannel {
             })
         };
         match model {
-            SteadyModel::FeneCr { l2 } | SteadyModel::FeneP { l2 } if !(l2 > 2.0) => {
+            SteadyModel::FeneCr { l2 } | SteadyModel::FeneP { l2 } if l2.is_nan() || l2 <= 2.0 => {
                 return bad("fene_L2", l2, "> 2")
             }
             SteadyModel::PttLinear { epsilon } | SteadyModel::PttExponential { epsilon }
@@ -880,14 +880,16 @@ mod tests {
 
     #[test]
     fn builds_from_the_scene_configuration() {
-        let mut cfg = SceneConfig::default();
-        cfg.density = 1.0;
-        cfg.viscosity = 1.0;
-        cfg.viscosity_ratio = 0.1;
-        cfg.relaxation_time = 1.0;
-        cfg.fene_L2 = 100.0;
-        cfg.ptt_epsilon = 0.25;
-        cfg.giesekus_alpha = 0.1;
+        let mut cfg = SceneConfig {
+            density: 1.0,
+            viscosity: 1.0,
+            viscosity_ratio: 0.1,
+            relaxation_time: 1.0,
+            fene_L2: 100.0,
+            ptt_epsilon: 0.25,
+            giesekus_alpha: 0.1,
+            ..SceneConfig::default()
+        };
         for (kind, model) in [
             (RheologyKind::FeneP, SteadyModel::FeneP { l2: 100.0 }),
             (RheologyKind::FeneCr, SteadyModel::FeneCr { l2: 100.0 }),
