@@ -510,7 +510,8 @@ impl WatersKing {
         .modes
     }
 
-    /// Velocity u(y, t) \[m/s\].
+    /// Velocity u(y, t) \[m/s\]. Every point value takes 0 <= y <= H (the closed-form sums used
+    /// hold there) and is the rest state for t <= 0.
     pub fn velocity(&self, y: f64, t: f64) -> f64 {
         self.point(
             y,
