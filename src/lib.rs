@@ -6,6 +6,7 @@
 //! inclined plate, and an FMI 2.0 Co-Simulation layer over the same [`simulation::Simulation`].
 //! Papers are cited by file in `../shared/papers/` and equation number.
 
+pub mod analytic;
 pub mod bench;
 pub mod boundary;
 pub mod choice;
