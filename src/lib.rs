@@ -15,6 +15,7 @@ pub mod health;
 pub mod io;
 pub mod kernel;
 pub mod neighbors;
+pub mod operators;
 pub mod particles;
 pub mod rheology;
 pub mod run;

@@ -6,6 +6,7 @@
 pub mod artificial;
 pub mod common;
 pub mod pdri;
+pub mod ppe;
 pub mod wcsph;
 
 use crate::simulation::State;
