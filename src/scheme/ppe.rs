@@ -48,14 +48,31 @@
 //! Disc of particles on a square lattice (and the same lattice displaced by up to +/-0.15 dr),
 //! quintic kernel h = 1.3 dr, outer ring Dirichlet; "channel": periodic in x, mirror walls, no
 //! Dirichlet row (null space pinned). Warm start: the solution of the previous step (positions
-//! moved by 0.01 dr, right-hand side changed by ~1 %). Tolerance 1e-8. Iterations / ms per solve
-//! (assembly and preconditioner set-up included):
+//! moved by 0.01 dr, right-hand side changed by ~1 %). Tolerance 1e-8. BiCGStab iterations /
+//! ms per solve (assembly from given coefficients and preconditioner set-up included; the
+//! machine had a load average of ~14 from other builds, so times are indicative, iterations
+//! exact):
 //!
 //! | case | N | Jacobi | Jacobi warm | SSOR | ILU(0) | ILU(0) warm |
 //! |---|---|---|---|---|---|---|
-//! (filled in from the benchmark below; see `docs/isph.md`.)
+//! | disc lattice | 1288 | 45 / 3.5 | 38 / 7.3 | 24 / 6.0 | 9 / 3.0 | 8 / 6.8 |
+//! | disc disordered | 1288 | 48 / 5.6 | 41 / 8.6 | 24 / 9.8 | 8 / 3.3 | 7 / 2.7 |
+//! | disc lattice | 5008 | 85 / 74 | 72 / 64 | 41 / 111 | 17 / 56 | 12 / 49 |
+//! | disc disordered | 5008 | 87 / 92 | 80 / 77 | 42 / 126 | 15 / 58 | 12 / 45 |
+//! | disc lattice | 20008 | 171 / 571 | 143 / 506 | 78 / 755 | 34 / 393 | 26 / 369 |
+//! | disc disordered | 20008 | 163 / 925 | 149 / 440 | 76 / 709 | 30 / 305 | 26 / 289 |
+//! | channel lattice | 5000 | 151 / 88 | 119 / 71 | 62 / 96 | 24 / 41 | 20 / 47 |
+//! | channel disordered | 5000 | 165 / 106 | 171 / 108 | 76 / 144 | 26 / 48 | 29 / 50 |
 //!
-//! Choice: see [`Preconditioner::default`].
+//! The same systems through `faer` 0.24 (sparse Cholesky, sequential so deterministic; factor +
+//! solve, residual ~1e-15): 8-10 ms (1288), 51-57 ms (5008), 470-530 ms (20008), 54 ms for the
+//! lattice channel; the disordered channel is not exactly symmetric (mirror pairs), and faer's
+//! sparse LU took 670 ms there (540-3700 ms elsewhere). So a direct Cholesky is competitive with
+//! ILU(0)-BiCGStab but not faster, needs exact symmetry (which the Bonet-Lok corrected Laplacian
+//! or disordered mirrors break) and a heavy dependency (22 min to build on this machine);
+//! SSOR halves Jacobi's iterations but its sweeps cost more than they save. Choice: BiCGStab
+//! with ILU(0), 4-6x fewer iterations than Jacobi and 1.5-3x faster, warm started from the last
+//! pressure (10-25 % fewer iterations).
 
 use crate::kernel::Kernel;
 use crate::neighbors::{Domain, NeighborList};
