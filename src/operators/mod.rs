@@ -2,3 +2,4 @@
 //! detection and normals, and Fickian particle shifting.
 
 pub mod fixtures;
+pub mod correction;
