@@ -121,7 +121,10 @@ mod tests {
         let c = Vec2::new(3.0, -2.0);
         let phi: Vec<f64> = set.x.iter().map(|x| 1.0 + c.dot(x)).collect();
         let l = correction_matrices(&set.x, &vol, &nl, &k, &Domain::OPEN);
-        assert!(l.iter().all(|l| *l != Mat2::identity()), "no fallback on a disc");
+        assert!(
+            l.iter().all(|l| *l != Mat2::identity()),
+            "no fallback on a disc"
+        );
         let corrected = gradient(&set.x, &vol, &phi, &nl, &k, &Domain::OPEN, &l);
         let ident = vec![Mat2::identity(); set.x.len()];
         let plain = gradient(&set.x, &vol, &phi, &nl, &k, &Domain::OPEN, &ident);

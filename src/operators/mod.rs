@@ -1,5 +1,6 @@
 //! SPH operators shared by the schemes: King & Lind 2021's corrected gradients, free-surface
 //! detection and normals, and Fickian particle shifting.
 
-pub mod fixtures;
 pub mod correction;
+pub mod fixtures;
+pub mod surface;
