@@ -3,4 +3,5 @@
 
 pub mod correction;
 pub mod fixtures;
+pub mod shifting;
 pub mod surface;
