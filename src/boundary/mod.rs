@@ -1,3 +1,4 @@
 //! Rigid walls.
 
+pub mod mirror;
 pub mod plate;
