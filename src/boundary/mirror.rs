@@ -316,4 +316,63 @@ mod tests {
         assert!(even < 1e-9 / dr, "{even}");
         assert!(odd > 0.1 / dr, "{odd}");
     }
+
+    /// A fluid layer at rest on a 30-degree plate: the PPE (King & Lind 2021 eq. (25)) with zero
+    /// right-hand side, mirrors carrying the hydrostatic offsets as Neumann ghosts, and the
+    /// hydrostatic value as Dirichlet data on the free rows (top and ends) returns the
+    /// hydrostatic field everywhere, the rows next to the plate included.
+    #[test]
+    fn ppe_with_mirrors_holds_the_hydrostatic_pressure() {
+        use crate::scheme::ppe::{
+            assemble_poisson, morris_coefficients, solve, GhostLink, SolverOptions,
+        };
+        let dr = 0.01;
+        let k = QuinticSpline::new(1.3 * dr);
+        let plate = MirrorPlate::inclined(Vec2::zeros(), 30.0, Vec2::zeros(), k.radius());
+        let (t, n) = (plate.t, plate.n);
+        let (cols, rows) = (40, 12);
+        let x: Vec<Vec2> = (0..cols * rows)
+            .map(|q| ((q % cols) as f64 - 19.5) * dr * t + ((q / cols) as f64 + 0.5) * dr * n)
+            .collect();
+        let (rho, g) = (1000.0, Vec2::new(0.0, -9.81));
+        let top = x.iter().map(|p| plate.distance(p)).fold(0.0, f64::max);
+        let exact = |p: &Vec2| rho * g.dot(&(p - (top * n)));
+        let m = build(&plate, &x);
+        let mut all = x.clone();
+        all.extend_from_slice(&m.x);
+        let grid = CellGrid::build(&all, k.radius());
+        let nl = NeighborList::build(&grid, &all, &x, k.radius());
+        let vol = vec![dr * dr; all.len()];
+        let coef = morris_coefficients(&all, &vol, &nl, &k, &crate::neighbors::Domain::OPEN, None);
+        let off = pressure_offsets(&m, &x, rho, g);
+        let ghosts = GhostLink {
+            parent: &m.parent,
+            sign: &[],
+            offset: &off,
+        };
+        let dirichlet: Vec<Option<f64>> = (0..x.len())
+            .map(|q| {
+                let (c, r) = (q % cols, q / cols);
+                (r >= rows - 3 || c < 3 || c >= cols - 3).then(|| exact(&x[q]))
+            })
+            .collect();
+        let sys = assemble_poisson(
+            x.len(),
+            &nl,
+            &coef,
+            &ghosts,
+            &dirichlet,
+            &vec![0.0; x.len()],
+        );
+        let mut p = vec![0.0; x.len()];
+        solve(&sys, &mut p, &SolverOptions::default()).unwrap();
+        let scale = rho * 9.81 * top;
+        for (pi, xi) in p.iter().zip(&x) {
+            assert!(
+                (pi - exact(xi)).abs() < 1e-7 * scale,
+                "{pi} vs {}",
+                exact(xi)
+            );
+        }
+    }
 }

@@ -192,11 +192,11 @@ mod tests {
                 concentration_gradient(&x, &vol, &nl, &k, &Domain::OPEN, dr, x.len(), &interior);
             let d = vec![coefficient_internal(k.h()); x.len()];
             let dx = displacements(&g, &d, Some((&s.is_surface, &s.normal)), k.h());
-            for i in 0..x.len() {
-                if s.is_surface[i] {
-                    assert!(dx[i].dot(&s.normal[i]).abs() <= 1e-12 * dx[i].norm().max(1e-300));
+            for ((d, &fs), n) in dx.iter().zip(&s.is_surface).zip(&s.normal) {
+                if fs {
+                    assert!(d.dot(n).abs() <= 1e-12 * d.norm().max(1e-300));
                 }
-                assert!(dx[i].norm() <= CAP_OVER_H * k.h() * (1.0 + 1e-12));
+                assert!(d.norm() <= CAP_OVER_H * k.h() * (1.0 + 1e-12));
             }
             x.iter_mut().zip(&dx).for_each(|(p, d)| *p += d);
         }
