@@ -27,13 +27,18 @@ struct Case {
 
 fn rhs(set: &ParticleSet, k: &QuinticSpline, seed: u64, gain: f64) -> Vec<f64> {
     let nl = set.neighbours(k.radius());
-    let scale = set.x[..set.n_fluid].iter().map(|x| x.norm()).fold(0.0, f64::max);
+    let scale = set.x[..set.n_fluid]
+        .iter()
+        .map(|x| x.norm())
+        .fold(0.0, f64::max);
     let mut s = seed;
     let u: Vec<Vec2> = (0..set.n_fluid)
         .map(|i| {
             let x = set.x[i] / scale;
-            gain * Vec2::new(x.x * x.y + (3.0 * x.y).sin(), -0.5 * x.y * x.y + (2.0 * x.x).cos())
-                + 0.01 * Vec2::new(splitmix(&mut s) - 0.5, splitmix(&mut s) - 0.5)
+            gain * Vec2::new(
+                x.x * x.y + (3.0 * x.y).sin(),
+                -0.5 * x.y * x.y + (2.0 * x.x).cos(),
+            ) + 0.01 * Vec2::new(splitmix(&mut s) - 0.5, splitmix(&mut s) - 0.5)
         })
         .collect();
     let ug = |j: usize| {
@@ -106,7 +111,11 @@ fn moved(set: &ParticleSet) -> ParticleSet {
             let dx = (old_g.x - old_p.x) / lx;
             let mut q = Vec2::new(new_p.x + dx.round() * lx, new_p.y);
             if set.reflected[g] {
-                q.y = if old_g.y < 0.0 { -new_p.y } else { 2.0 * h - new_p.y };
+                q.y = if old_g.y < 0.0 {
+                    -new_p.y
+                } else {
+                    2.0 * h - new_p.y
+                };
             }
             m.x[set.n_fluid + g] = q;
         }
@@ -115,9 +124,14 @@ fn moved(set: &ParticleSet) -> ParticleSet {
 }
 
 fn main() {
-    let threads: usize = std::env::args().nth(1).map_or(2, |a| a.parse().expect("threads"));
+    let threads: usize = std::env::args()
+        .nth(1)
+        .map_or(2, |a| a.parse().expect("threads"));
     let dump = std::env::var("PPE_DUMP").ok();
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("pool");
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("pool");
     pool.install(|| run(dump.as_deref()));
 }
 
@@ -133,7 +147,14 @@ fn run(dump: Option<&str>) {
                 .map(|x| (x.norm() > radius - dr).then_some(0.0))
                 .collect();
             cases.push(Case {
-                name: format!("disc {label} {}", if jitter > 0.0 { "disordered" } else { "lattice" }),
+                name: format!(
+                    "disc {label} {}",
+                    if jitter > 0.0 {
+                        "disordered"
+                    } else {
+                        "lattice"
+                    }
+                ),
                 set,
                 dirichlet,
             });
@@ -142,12 +163,21 @@ fn run(dump: Option<&str>) {
     for (nx, ny, jitter) in [(100, 50, 0.0), (100, 50, 0.15)] {
         let set = channel(nx, ny, 1.0, jitter, 3.0 * 1.3, 12);
         cases.push(Case {
-            name: format!("channel 5k {}", if jitter > 0.0 { "disordered" } else { "lattice" }),
+            name: format!(
+                "channel 5k {}",
+                if jitter > 0.0 {
+                    "disordered"
+                } else {
+                    "lattice"
+                }
+            ),
             set,
             dirichlet: Vec::new(),
         });
     }
-    println!("| case | N | nnz/row | Jacobi | Jacobi warm | SSOR | ILU(0) | ILU(0) warm | assembly |");
+    println!(
+        "| case | N | nnz/row | Jacobi | Jacobi warm | SSOR | ILU(0) | ILU(0) warm | assembly |"
+    );
     println!("|---|---|---|---|---|---|---|---|---|");
     for c in &cases {
         let k = QuinticSpline::new(1.3 * c.set.dr);
