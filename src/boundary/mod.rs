@@ -10,6 +10,7 @@
 //! what it rebuilds from the state (interpolation lists), so nothing is stored twice.
 
 pub mod ghost;
+pub mod mirror;
 pub mod plate;
 
 use crate::neighbors::CellGrid;

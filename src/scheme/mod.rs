@@ -10,6 +10,7 @@
 pub mod health;
 pub mod params;
 pub mod pdri;
+pub mod ppe;
 pub mod wc;
 pub mod wcsph;
 
