@@ -296,8 +296,9 @@ mod tests {
             all.extend_from_slice(&m.x);
             let mut taus = vec![tau; x.len()];
             taus.extend(stresses(&plate, &m, &vec![tau; x.len()], mode));
-            let grid = CellGrid::build(&all, k.radius());
-            let nl = NeighborList::build(&grid, &all, &x, k.radius());
+            let grid = CellGrid::build(&all, k.radius(), &crate::neighbors::Domain::OPEN);
+            let nl =
+                NeighborList::build(&grid, &all, &x, k.radius(), &crate::neighbors::Domain::OPEN);
             (0..x.len())
                 .filter(|&i| x[i].dot(&t).abs() < 8.0 * dr && plate.distance(&x[i]) < 4.0 * dr)
                 .map(|i| {
@@ -340,8 +341,8 @@ mod tests {
         let m = build(&plate, &x);
         let mut all = x.clone();
         all.extend_from_slice(&m.x);
-        let grid = CellGrid::build(&all, k.radius());
-        let nl = NeighborList::build(&grid, &all, &x, k.radius());
+        let grid = CellGrid::build(&all, k.radius(), &crate::neighbors::Domain::OPEN);
+        let nl = NeighborList::build(&grid, &all, &x, k.radius(), &crate::neighbors::Domain::OPEN);
         let vol = vec![dr * dr; all.len()];
         let coef = morris_coefficients(&all, &vol, &nl, &k, &crate::neighbors::Domain::OPEN, None);
         let off = pressure_offsets(&m, &x, rho, g);

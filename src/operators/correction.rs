@@ -152,8 +152,9 @@ mod tests {
         let mut x: Vec<Vec2> = (0..7).map(|i| Vec2::new(i as f64 * dr, 0.0)).collect();
         x.push(Vec2::new(1.0, 1.0));
         let vol = vec![dr * dr; x.len()];
-        let grid = crate::neighbors::CellGrid::build(&x, k.radius());
-        let nl = NeighborList::build(&grid, &x, &x, k.radius());
+        let grid =
+            crate::neighbors::CellGrid::build(&x, k.radius(), &crate::neighbors::Domain::OPEN);
+        let nl = NeighborList::build(&grid, &x, &x, k.radius(), &crate::neighbors::Domain::OPEN);
         let l = correction_matrices(&x, &vol, &nl, &k, &Domain::OPEN);
         assert_eq!(l[3], Mat2::identity());
         assert_eq!(l[7], Mat2::identity());

@@ -22,8 +22,14 @@ pub struct ParticleSet {
 impl ParticleSet {
     /// Neighbour lists of the fluid particles among all points within `radius`.
     pub fn neighbours(&self, radius: f64) -> NeighborList {
-        let grid = CellGrid::build(&self.x, radius);
-        NeighborList::build(&grid, &self.x, &self.x[..self.n_fluid], radius)
+        let grid = CellGrid::build(&self.x, radius, &crate::neighbors::Domain::OPEN);
+        NeighborList::build(
+            &grid,
+            &self.x,
+            &self.x[..self.n_fluid],
+            radius,
+            &crate::neighbors::Domain::OPEN,
+        )
     }
 
     /// Ghost signs for a value that is mirrored (+1 everywhere: pressure, concentration).

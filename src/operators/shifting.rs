@@ -151,8 +151,8 @@ mod tests {
     use crate::operators::surface;
 
     fn lists(x: &[Vec2], k: &QuinticSpline) -> NeighborList {
-        let g = CellGrid::build(x, k.radius());
-        NeighborList::build(&g, x, x, k.radius())
+        let g = CellGrid::build(x, k.radius(), &crate::neighbors::Domain::OPEN);
+        NeighborList::build(&g, x, x, k.radius(), &crate::neighbors::Domain::OPEN)
     }
 
     /// Coefficient of variation of the nearest-neighbour distance over particles deeper than

@@ -122,8 +122,8 @@ mod tests {
 
     fn run(x: &[Vec2], dr: f64) -> Surface {
         let k = QuinticSpline::new(1.3 * dr);
-        let grid = CellGrid::build(x, k.radius());
-        let nl = NeighborList::build(&grid, x, x, k.radius());
+        let grid = CellGrid::build(x, k.radius(), &crate::neighbors::Domain::OPEN);
+        let nl = NeighborList::build(&grid, x, x, k.radius(), &crate::neighbors::Domain::OPEN);
         let vol = vec![dr * dr; x.len()];
         detect(x, &vol, &nl, &k, &Domain::OPEN, x.len())
     }
