@@ -6,7 +6,6 @@
 //! inclined plate, and an FMI 2.0 Co-Simulation layer over the same [`simulation::Simulation`].
 //! Papers are cited by file in `../shared/papers/` and equation number.
 
-pub mod bench;
 pub mod boundary;
 pub mod choice;
 pub mod config;
@@ -14,13 +13,11 @@ pub mod diagnostics;
 pub mod eos;
 pub mod fmi2;
 pub mod health;
-pub mod io;
 pub mod kernel;
 pub mod neighbors;
 pub mod operators;
 pub mod particles;
 pub mod rheology;
-pub mod run;
 pub mod scene;
 pub mod scheme;
 pub mod simulation;

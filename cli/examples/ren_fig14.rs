@@ -9,8 +9,8 @@
 //! here X_back = spread_back / D and X_front = -spread_front / D.
 
 use viscosph::config::{SceneConfig, Value};
-use viscosph::io::plot::{line_panels, Panel, Series};
-use viscosph::run::{run, time_scale, RunOptions};
+use viscosph_cli::io::plot::{line_panels, Panel, Series};
+use viscosph_cli::run::{run, time_scale, RunOptions};
 
 fn config(rheology: &str, angle: f64, ppd: i64) -> SceneConfig {
     let mut c = SceneConfig::default();

@@ -4,8 +4,8 @@ use clap::{Parser, Subcommand};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
-use viscosph::run::{run, RunOptions};
 use viscosph::SceneConfig;
+use viscosph_cli::run::{run, RunOptions};
 
 #[derive(Parser)]
 #[command(
@@ -38,7 +38,7 @@ enum Command {
     /// Print the default scene file with every parameter.
     DefaultScene,
     /// Benchmarks: see `viscosph bench --help`.
-    Bench(viscosph::bench::BenchArgs),
+    Bench(viscosph_cli::bench::BenchArgs),
 }
 
 fn main() -> ExitCode {
@@ -121,7 +121,7 @@ fn main() -> ExitCode {
             print!("{}", SceneConfig::default().to_toml_string());
             ExitCode::SUCCESS
         }
-        Command::Bench(args) => match viscosph::bench::main(args) {
+        Command::Bench(args) => match viscosph_cli::bench::main(args) {
             Ok(()) => ExitCode::SUCCESS,
             Err(e) => {
                 eprintln!("error: {e}");

@@ -1,10 +1,10 @@
 //! Running a scene to files: the loop behind `viscosph run`, shared by the CLI, examples and tests.
 
-use crate::diagnostics::Outputs;
 use crate::io::{csv, plot, vtk};
-use crate::simulation::{SimError, Simulation};
-use crate::{SceneConfig, Vec2};
 use std::path::{Path, PathBuf};
+use viscosph::diagnostics::Outputs;
+use viscosph::simulation::{SimError, Simulation};
+use viscosph::{SceneConfig, Vec2};
 
 /// Settings of one run.
 #[derive(Debug, Clone)]
@@ -20,8 +20,8 @@ pub struct RunOptions {
 /// Characteristic time of a scene, the unit of t*: D/V for a drop (Fang's t* = t V / D),
 /// D / sqrt(g D) if V = 0; for the elliptical drop, an eighth of Ren's end time 0.008 s.
 pub fn time_scale(cfg: &SceneConfig) -> f64 {
-    if cfg.scene == crate::config::Scene::EllipticalDrop {
-        return crate::scene::elliptical_drop::TIME_SCALE;
+    if cfg.scene == viscosph::config::Scene::EllipticalDrop {
+        return viscosph::scene::elliptical_drop::TIME_SCALE;
     }
     let v = if cfg.impact_velocity > 0.0 {
         cfg.impact_velocity
@@ -57,7 +57,7 @@ pub struct RunResult {
     /// Particles put back above the plate by the impenetrability condition of Fang's walls.
     pub wall_reflections: u64,
     /// For the elliptical drop: the semi-axes at the end against the exact ones.
-    pub elliptical: Option<crate::scene::elliptical_drop::SemiAxes>,
+    pub elliptical: Option<viscosph::scene::elliptical_drop::SemiAxes>,
 }
 
 impl RunResult {

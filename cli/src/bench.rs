@@ -9,15 +9,15 @@
 //! A case is a named [`SceneConfig`]; adding a scheme or a scene to a benchmark is adding a line to
 //! its case list.
 
-use crate::config::{RheologyKind, SchemeKind, RHEOLOGIES, SCHEMES};
-use crate::config::{SceneConfig, Value};
-use crate::diagnostics::Outputs;
 use crate::io::plot::{line_panels, status_grid, Panel, Series};
 use crate::run::{run, time_scale, RunOptions};
-use crate::simulation::Simulation;
 use clap::{Args, Subcommand};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+use viscosph::config::{RheologyKind, SchemeKind, RHEOLOGIES, SCHEMES};
+use viscosph::config::{SceneConfig, Value};
+use viscosph::diagnostics::Outputs;
+use viscosph::simulation::Simulation;
 
 #[derive(Args, Debug)]
 pub struct BenchArgs {
@@ -262,7 +262,7 @@ pub fn measure_throughput(
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()?;
-    let r: Result<(f64, usize), crate::simulation::SimError> = pool.install(|| {
+    let r: Result<(f64, usize), viscosph::simulation::SimError> = pool.install(|| {
         let mut sim = Simulation::new(cfg.clone())?;
         // One tiny step to learn the stable step, then time `steps` steps.
         sim.advance_to(1e-12)?;
@@ -357,7 +357,7 @@ fn bench_throughput(out: &Path, quick: bool) -> Result<String, Box<dyn std::erro
 /// output) at a 1 ms communication step. The C ABI hop on top of that layer is a null check and a
 /// `catch_unwind`, nanoseconds per call.
 pub fn fmu_overhead(t_end: f64) -> Result<(f64, f64, f64), Box<dyn std::error::Error>> {
-    use crate::fmi2::instance::Instance;
+    use viscosph::fmi2::instance::Instance;
     let cfg = SceneConfig::default();
     let h = 1e-3;
     let n = (t_end / h).round() as usize;
@@ -375,7 +375,7 @@ pub fn fmu_overhead(t_end: f64) -> Result<(f64, f64, f64), Box<dyn std::error::E
     }
     let chunks = start.elapsed().as_secs_f64();
 
-    let vrs: Vec<u32> = crate::OUTPUTS
+    let vrs: Vec<u32> = viscosph::OUTPUTS
         .iter()
         .filter(|o| o.name != "particle_count")
         .map(|o| o.value_reference)
@@ -384,8 +384,8 @@ pub fn fmu_overhead(t_end: f64) -> Result<(f64, f64, f64), Box<dyn std::error::E
     let start = std::time::Instant::now();
     let mut inst = Instance::new("bench", false, Box::new(|_, _, _| {}));
     let ok =
-        |s: crate::fmi2::types::Status, what: &str| -> Result<(), Box<dyn std::error::Error>> {
-            if s == crate::fmi2::types::Status::Ok {
+        |s: viscosph::fmi2::types::Status, what: &str| -> Result<(), Box<dyn std::error::Error>> {
+            if s == viscosph::fmi2::types::Status::Ok {
                 Ok(())
             } else {
                 Err(format!("FMI layer: {what} answered {s:?}").into())
@@ -500,7 +500,7 @@ fn bench_accuracy(out: &Path, quick: bool) -> Result<String, Box<dyn std::error:
             };
             intervals.into_iter().map(move |k| {
                 let c = SceneConfig {
-                    scene: crate::config::Scene::EllipticalDrop,
+                    scene: viscosph::config::Scene::EllipticalDrop,
                     scheme,
                     density_reinit_interval: k,
                     ..Default::default()
@@ -521,8 +521,8 @@ fn bench_accuracy(out: &Path, quick: bool) -> Result<String, Box<dyn std::error:
                 ..base.clone()
             };
             let opts = RunOptions {
-                t_end: crate::scene::elliptical_drop::T_END,
-                output_interval: crate::scene::elliptical_drop::T_END,
+                t_end: viscosph::scene::elliptical_drop::T_END,
+                output_interval: viscosph::scene::elliptical_drop::T_END,
                 ..RunOptions::for_scene(&cfg)
             };
             eprintln!("bench: elliptical drop, {name} at {ppd} ...");
@@ -828,7 +828,7 @@ pub fn classify(cfg: &SceneConfig, t_star_end: f64) -> Option<Outcome> {
         },
         Err(e) => {
             let (t, cause) = match &e {
-                crate::simulation::SimError::Breakdown { time, cause, .. } => {
+                viscosph::simulation::SimError::Breakdown { time, cause, .. } => {
                     (Some(time / ts), cause.clone())
                 }
                 other => (None, other.to_string()),

@@ -76,7 +76,7 @@ fn run_writes_timeseries_snapshots_and_plots() {
     );
 
     let (header, rows) =
-        viscosph::io::csv::read_timeseries(&out_dir.join("timeseries.csv")).unwrap();
+        viscosph_cli::io::csv::read_timeseries(&out_dir.join("timeseries.csv")).unwrap();
     let mut want = vec!["time".to_string()];
     want.extend(viscosph::OUTPUTS.iter().map(|o| o.name.to_string()));
     assert_eq!(header, want);
@@ -127,7 +127,8 @@ fn a_breakdown_keeps_its_files_and_the_last_good_state() {
         stderr.contains("numerical breakdown") && stderr.contains("too fast for the sound speed"),
         "{stderr}"
     );
-    let (_, rows) = viscosph::io::csv::read_timeseries(&out_dir.join("timeseries.csv")).unwrap();
+    let (_, rows) =
+        viscosph_cli::io::csv::read_timeseries(&out_dir.join("timeseries.csv")).unwrap();
     assert!(rows.len() >= 2 && rows.len() < 11, "{} rows", rows.len());
     // One snapshot per output row, then the last good state after them.
     let vtk = |k: usize| out_dir.join(format!("particles_{k:04}.vtk"));
@@ -138,7 +139,7 @@ fn a_breakdown_keeps_its_files_and_the_last_good_state() {
 
 #[test]
 fn example_scenes_are_valid() {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes");
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/scenes");
     let mut n = 0;
     for e in std::fs::read_dir(&dir).unwrap() {
         let path = e.unwrap().path();
