@@ -55,6 +55,17 @@ pub enum BenchKind {
 
 pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
     std::fs::create_dir_all(&args.out)?;
+    // Which commit each measurement ran on, for the report (which may be assembled later);
+    // taken before measuring, so a commit made meanwhile is not credited.
+    let commit = git_commit();
+    let stem = match args.what {
+        BenchKind::Drop => Some("drop"),
+        BenchKind::Throughput => Some("throughput"),
+        BenchKind::Stability => Some("stability"),
+        BenchKind::Accuracy => Some("accuracy"),
+        BenchKind::Rheologies => Some("rheologies"),
+        BenchKind::Report { .. } => None,
+    };
     let report = match args.what {
         BenchKind::Drop => bench_drop(&args.out, args.quick)?,
         BenchKind::Throughput => bench_throughput(&args.out, args.quick)?,
@@ -63,6 +74,9 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
         BenchKind::Rheologies => bench_rheologies(&args.out, args.quick)?,
         BenchKind::Report { ref docs } => bench_report(&args.out, docs)?,
     };
+    if let Some(stem) = stem {
+        std::fs::write(args.out.join(format!("{stem}.commit")), commit + "\n")?;
+    }
     println!("{report}");
     Ok(())
 }
@@ -209,8 +223,8 @@ fn bench_drop(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::Err
     for (name, _) in fang_cases() {
         panels.push(Panel {
             title: format!("{name}: W*(t*) at each resolution"),
-            x_label: "t* = t V / D".into(),
-            y_label: "W*".into(),
+            x_label: "t* = t V / D [-]".into(),
+            y_label: "W* = W / D [-]".into(),
             series: rows
                 .iter()
                 .filter(|r| r.case == name)
@@ -229,7 +243,7 @@ fn bench_drop(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::Err
     panels.push(Panel {
         title: "cost against difference from the finest run".into(),
         x_label: "wall time [s]".into(),
-        y_label: "max |W* - W*_finest|".into(),
+        y_label: "max |W* - W*_finest| [-]".into(),
         series: fang_cases()
             .iter()
             .map(|(name, _)| Series {
@@ -243,7 +257,7 @@ fn bench_drop(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::Err
             .collect(),
         log: (true, true),
     });
-    line_panels(&out.join("drop.png"), &panels, 3, (1800, 550))?;
+    line_panels(&out.join("drop.png"), &panels, 3, (1950, 620))?;
     Ok(md)
 }
 
@@ -556,8 +570,13 @@ fn bench_accuracy(out: &Path, quick: bool) -> Result<String, Box<dyn std::error:
     }
     std::fs::write(out.join("accuracy.csv"), &csv)?;
     std::fs::write(out.join("accuracy.md"), &md)?;
-    let mut problems: Vec<String> = points.iter().map(|p| p.problem.clone()).collect();
-    problems.dedup();
+    // Each problem once, in the order first met (the points come scheme by scheme).
+    let mut problems: Vec<String> = Vec::new();
+    for p in &points {
+        if !problems.contains(&p.problem) {
+            problems.push(p.problem.clone());
+        }
+    }
     let panels: Vec<Panel> = problems
         .iter()
         .map(|prob| {
@@ -570,7 +589,11 @@ fn bench_accuracy(out: &Path, quick: bool) -> Result<String, Box<dyn std::error:
             Panel {
                 title: format!("{prob}: error against cost"),
                 x_label: "wall time [s]".into(),
-                y_label: "error".into(),
+                y_label: if prob.starts_with("drop") {
+                    "max |W* - W*_extrapolated| [-]".into()
+                } else {
+                    "|semi-major axis error| [-]".into()
+                },
                 series: schemes
                     .iter()
                     .map(|s| Series {
@@ -632,7 +655,10 @@ fn bench_rheologies(out: &Path, quick: bool) -> Result<String, Box<dyn std::erro
             .iter()
             .map(|(t, o)| (t / ts, o.drop_width / d))
             .collect();
-        let (tmax, wmax) = first_peak(&w);
+        let (peak_w, peak_t) = match first_peak(&w) {
+            Some((t, w)) => (format!("{w:.3}"), format!("{t:.2}")),
+            None => ("none (keeps spreading)".to_string(), "-".to_string()),
+        };
         let last = res.series.last().expect("series").1;
         let trace = res
             .series
@@ -641,7 +667,7 @@ fn bench_rheologies(out: &Path, quick: bool) -> Result<String, Box<dyn std::erro
             .fold(0.0, f64::max);
         writeln!(
             md,
-            "| {r} | {wmax:.3} | {tmax:.2} | {:.3} | {:.3} | {} | {:.2} | {} |",
+            "| {r} | {peak_w} | {peak_t} | {:.3} | {:.3} | {} | {:.2} | {} |",
             last.drop_width / d,
             last.drop_height / d,
             if trace > 0.0 {
@@ -675,16 +701,26 @@ fn bench_rheologies(out: &Path, quick: bool) -> Result<String, Box<dyn std::erro
     Ok(md)
 }
 
-/// The first local maximum of a curve once it has risen 1 % above its start (the last point
-/// if it never falls): the first spreading peak of W*, whatever happens before impact.
-pub fn first_peak(points: &[(f64, f64)]) -> (f64, f64) {
-    let start = points.first().map(|p| p.1).unwrap_or(0.0);
-    points
-        .windows(2)
-        .find(|w| w[0].1 > 1.01 * start && w[1].1 < w[0].1)
-        .map(|w| w[0])
-        .or_else(|| points.last().copied())
-        .unwrap_or((0.0, 0.0))
+/// The first spreading peak of W*: the first point, once the curve has risen 1 % above its
+/// start, after which the curve falls by 1 % of it before it rises above it again (a retraction,
+/// not a wiggle of one particle spacing). `None` if the drop never retracts (a Newtonian drop
+/// keeps spreading): its largest W* is then its last, which is no peak.
+pub fn first_peak(points: &[(f64, f64)]) -> Option<(f64, f64)> {
+    let start = points.first()?.1;
+    for (i, p) in points.iter().enumerate() {
+        if p.1 <= 1.01 * start {
+            continue;
+        }
+        for q in &points[i + 1..] {
+            if q.1 > p.1 {
+                break;
+            }
+            if q.1 < 0.99 * p.1 {
+                return Some(*p);
+            }
+        }
+    }
+    None
 }
 
 /// One line about the machine: CPU model, cores, memory.
@@ -714,9 +750,10 @@ pub fn machine_description() -> String {
     format!("{cpu}, {cores} cores, {mem}")
 }
 
+/// The commit the binary runs from, `-dirty` if the work tree has uncommitted changes.
 fn git_commit() -> String {
     std::process::Command::new("git")
-        .args(["rev-parse", "--short", "HEAD"])
+        .args(["describe", "--always", "--dirty", "--abbrev=7"])
         .output()
         .ok()
         .filter(|o| o.status.success())
@@ -776,10 +813,35 @@ fn bench_report(results: &Path, docs: &Path) -> Result<String, Box<dyn std::erro
     std::fs::create_dir_all(&img_dir)?;
     let mut md = String::from("# ViscoSPH benchmarks\n\n");
     writeln!(md, "Generated by `viscosph bench report` from the results of the commands named in each section.\n")?;
+    // The commit each section was measured on (written by the subcommand that measured it).
+    let measured = |file: &str| {
+        let f = results.join(file.replace(".md", ".commit"));
+        std::fs::read_to_string(f)
+            .ok()
+            .map(|t| t.trim().to_string())
+    };
+    let mut commits: Vec<String> = REPORT_SECTIONS
+        .iter()
+        .filter_map(|(_, _, file, _)| measured(file))
+        .collect();
+    commits.sort();
+    commits.dedup();
     writeln!(md, "- machine: {}", machine_description())?;
-    writeln!(md, "- commit: {}\n", git_commit())?;
+    writeln!(
+        md,
+        "- measured on commit: {}",
+        if commits.is_empty() {
+            "unknown".to_string()
+        } else {
+            commits.join(", ")
+        }
+    )?;
+    writeln!(md, "- report assembled at commit: {}\n", git_commit())?;
     for (title, cmd, file, pngs) in REPORT_SECTIONS {
         writeln!(md, "## {title}\n\n`{cmd}`\n")?;
+        if let Some(c) = measured(file) {
+            writeln!(md, "Measured on commit {c}.\n")?;
+        }
         match std::fs::read_to_string(results.join(file)) {
             Ok(t) => md.push_str(&t),
             Err(_) => writeln!(
@@ -954,7 +1016,8 @@ fn bench_stability(out: &Path, quick: bool) -> Result<String, Box<dyn std::error
         status_grid(
             &out.join(format!("stability_de_{scheme}.png")),
             &format!("{scheme}: stable (green) / broken (red) drops against De"),
-            "De = lambda V / D",
+            "De = lambda V / D [-]",
+            "rheology",
             &des.iter().map(|d| d.to_string()).collect::<Vec<_>>(),
             &rheos.iter().map(|r| r.to_string()).collect::<Vec<_>>(),
             &cells,
@@ -1033,6 +1096,7 @@ fn bench_stability(out: &Path, quick: bool) -> Result<String, Box<dyn std::error
             &out.join(format!("stability_{name}.png")),
             &format!("Oldroyd-B drop: stable (green) / broken (red) against {label}"),
             label,
+            "scheme",
             &values.iter().map(|d| d.to_string()).collect::<Vec<_>>(),
             &schemes.iter().map(|s| s.to_string()).collect::<Vec<_>>(),
             &cells,
@@ -1046,6 +1110,38 @@ fn bench_stability(out: &Path, quick: bool) -> Result<String, Box<dyn std::error
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_curve_that_keeps_rising_has_no_first_peak() {
+        // A Newtonian drop: W* rises, with a wiggle smaller than 1 %, to its last value.
+        let rising: Vec<(f64, f64)> = (0..50)
+            .map(|k| {
+                let t = k as f64 * 0.1;
+                (t, 1.0 + t - if k == 20 { 0.005 } else { 0.0 })
+            })
+            .collect();
+        assert_eq!(first_peak(&rising), None);
+        // An Oldroyd-B drop: up to 2.1 at t* = 2.2, retracts to 1.7, spreads again past 2.1.
+        let retracting: Vec<(f64, f64)> = (0..80)
+            .map(|k| {
+                let t = k as f64 * 0.1;
+                let w = if t <= 2.2 {
+                    1.0 + 0.5 * t
+                } else if t <= 4.0 {
+                    2.1 - 0.4 * (t - 2.2) / 1.8
+                } else {
+                    1.7 + 0.3 * (t - 4.0)
+                };
+                (t, w)
+            })
+            .collect();
+        let (t, w) = first_peak(&retracting).unwrap();
+        assert!((t - 2.2).abs() < 1e-9 && (w - 2.1).abs() < 1e-9, "{t} {w}");
+        assert!(
+            retracting.last().unwrap().1 > w,
+            "the final value is larger: not the peak"
+        );
+    }
 
     #[test]
     fn ppd_for_hits_the_particle_count() {
