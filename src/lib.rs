@@ -4,7 +4,8 @@
 //! Three seed schemes (Fang 2006 WCSPH, Ren 2015 PDRI-SPH, King & Lind 2021 ISPH), the
 //! constitutive models of King & Lind's Table I plus the Cross model, a drop impacting a possibly
 //! inclined plate, and an FMI 2.0 Co-Simulation layer over the same [`simulation::Simulation`].
-//! Papers are cited by file in `../shared/papers/` and equation number.
+//! Papers are cited by authors, year and equation number (e.g. "Fang 2006 eq. (38)"); the full
+//! citations are in `docs/references.md`.
 
 pub mod boundary;
 pub mod choice;
