@@ -81,8 +81,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
         panels.push(Panel {
             title: format!("{title} drop on inclined plates (PDRI-SPH, Ren 2015 Fig. 14)"),
-            x_label: "t* = t V / D".into(),
-            y_label: "X / D".into(),
+            x_label: "t* = t V / D [-]".into(),
+            y_label: "X_back / D > 0 (uphill), X_front / D < 0 [-]".into(),
             series,
             log: (false, false),
         });
