@@ -460,11 +460,12 @@ pub fn run(cfg: &SceneConfig, opts: &RunOptions) -> Result<RunResult, Box<dyn st
         let path = d.join("timeseries.csv");
         at(csv::write_timeseries(&path, &result.series), "write", &path)?;
         let path = d.join("width_height.png");
-        let ended = result
-            .error
-            .as_ref()
-            .map(|_| "breakdown")
-            .or(interrupted.map(|_| "interrupted"));
+        let t_last = sim.state().time;
+        let ended = match (&result.error, interrupted) {
+            (Some(_), _) => Some(("breakdown", t_last)),
+            (None, Some(t)) => Some(("interrupted", t)),
+            _ => None,
+        };
         at(
             plot_width_height_marked(
                 &path,
@@ -529,12 +530,13 @@ pub fn plot_width_height(
     plot_width_height_marked(path, cfg, runs, None)
 }
 
-/// [`plot_width_height`], with a note in the titles when the run ended early (`ended`).
+/// [`plot_width_height`], with a note in the titles when the run ended early: `ended` is
+/// why ("breakdown", "interrupted") and the time of the last good state.
 pub fn plot_width_height_marked(
     path: &Path,
     cfg: &SceneConfig,
     runs: &[(String, &[(f64, Outputs)])],
-    ended: Option<&str>,
+    ended: Option<(&str, f64)>,
 ) -> Result<(), Box<dyn std::error::Error>> {
     let elliptical = cfg.scene == viscosph::config::Scene::EllipticalDrop;
     let (d, ts) = if elliptical {
@@ -550,9 +552,10 @@ pub fn plot_width_height_marked(
             })
             .collect::<Vec<_>>()
     };
-    let note = match (ended, runs.first().and_then(|r| r.1.last())) {
-        (Some(why), Some((t, _))) => format!(" ({why} at {})", time_text(*t)),
-        _ => String::new(),
+    let note = match ended {
+        Some(("breakdown", t)) => format!(" (breakdown after t = {})", time_text(t)),
+        Some((why, t)) => format!(" ({why} at t = {})", time_text(t)),
+        None => String::new(),
     };
     let (x_label, w_title, h_title, w_label, h_label) = if elliptical {
         (

@@ -56,6 +56,21 @@ fn bounds(points: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
     }
 }
 
+/// A tick label with enough decimals to tell ticks `span / 10` apart.
+fn tick_in(v: f64, span: f64) -> String {
+    let a = v.abs().max(span.abs());
+    if a == 0.0 || !(1e-2..1e4).contains(&a) || !span.is_finite() || span <= 0.0 {
+        return tick(v);
+    }
+    let decimals = (-(span / 10.0).log10().floor()).clamp(0.0, 8.0) as usize;
+    let s = format!("{v:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
 /// A short tick label: plain for moderate magnitudes, scientific otherwise.
 fn tick(v: f64) -> String {
     let a = v.abs();
@@ -139,8 +154,20 @@ fn draw_panel(
             let mut chart = $chart;
             chart
                 .configure_mesh()
-                .x_label_formatter(&|v| tick(*v))
-                .y_label_formatter(&|v| tick(*v))
+                .x_label_formatter(&|v| {
+                    if panel.log.0 {
+                        tick(*v)
+                    } else {
+                        tick_in(*v, xs.1 - xs.0)
+                    }
+                })
+                .y_label_formatter(&|v| {
+                    if panel.log.1 {
+                        tick(*v)
+                    } else {
+                        tick_in(*v, ys.1 - ys.0)
+                    }
+                })
                 .x_desc(panel.x_label.as_str())
                 .y_desc(panel.y_label.as_str())
                 .label_style((FONT, TICKS))
@@ -275,7 +302,7 @@ fn clip_plate(angle_deg: f64, x: (f64, f64), y: (f64, f64)) -> Option<[(f64, f64
             s1 = f64::min(s1, a.max(b));
         }
     }
-    (s1 > s0).then(|| [(s0 * d.0, s0 * d.1), (s1 * d.0, s1 * d.1)])
+    (s1 > s0).then_some([(s0 * d.0, s0 * d.1), (s1 * d.0, s1 * d.1)])
 }
 
 /// The window of one snapshot: its fluid with a margin, stretched to include the nearest point
