@@ -44,6 +44,9 @@ pub enum BenchKind {
     /// Fang's drop (De = 1, beta = 0.1) with every rheology: W*(t*) and H*(t*) overlaid, like
     /// King & Lind's Fig. 16.
     Rheologies,
+    /// Redraw the PNGs that the CSV files in --out hold the data of (accuracy.png), without
+    /// running anything: for a change of the plot style.
+    Replot,
     /// Assemble docs/benchmarks.md from the results of the other subcommands (run them first),
     /// with the machine and commit noted and the PNGs copied to docs/bench/.
     Report {
@@ -64,7 +67,7 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
         BenchKind::Stability => Some("stability"),
         BenchKind::Accuracy => Some("accuracy"),
         BenchKind::Rheologies => Some("rheologies"),
-        BenchKind::Report { .. } => None,
+        BenchKind::Report { .. } | BenchKind::Replot => None,
     };
     let report = match args.what {
         BenchKind::Drop => bench_drop(&args.out, args.quick)?,
@@ -73,6 +76,7 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
         BenchKind::Accuracy => bench_accuracy(&args.out, args.quick)?,
         BenchKind::Rheologies => bench_rheologies(&args.out, args.quick)?,
         BenchKind::Report { ref docs } => bench_report(&args.out, docs)?,
+        BenchKind::Replot => bench_replot(&args.out)?,
     };
     if let Some(stem) = stem {
         std::fs::write(args.out.join(format!("{stem}.commit")), commit + "\n")?;
@@ -570,9 +574,15 @@ fn bench_accuracy(out: &Path, quick: bool) -> Result<String, Box<dyn std::error:
     }
     std::fs::write(out.join("accuracy.csv"), &csv)?;
     std::fs::write(out.join("accuracy.md"), &md)?;
+    plot_accuracy(out, &points)?;
+    Ok(md)
+}
+
+/// `accuracy.png` from the points of `accuracy.csv`: error against wall time per problem.
+fn plot_accuracy(out: &Path, points: &[AccuracyPoint]) -> Result<(), Box<dyn std::error::Error>> {
     // Each problem once, in the order first met (the points come scheme by scheme).
     let mut problems: Vec<String> = Vec::new();
-    for p in &points {
+    for p in points {
         if !problems.contains(&p.problem) {
             problems.push(p.problem.clone());
         }
@@ -620,7 +630,31 @@ fn bench_accuracy(out: &Path, quick: bool) -> Result<String, Box<dyn std::error:
             ),
         )?;
     }
-    Ok(md)
+    Ok(())
+}
+
+/// Redraw the PNGs that can be drawn from the CSV files in `out` without running anything
+/// (today `accuracy.png` from `accuracy.csv`), e.g. after a change of the plot style.
+fn bench_replot(out: &Path) -> Result<String, Box<dyn std::error::Error>> {
+    let path = out.join("accuracy.csv");
+    let text = std::fs::read_to_string(&path)
+        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let mut points = Vec::new();
+    for line in text.lines().skip(1).filter(|l| !l.trim().is_empty()) {
+        let f: Vec<&str> = line.split(',').collect();
+        if f.len() != 5 {
+            return Err(format!("{}: bad row '{line}'", path.display()).into());
+        }
+        points.push(AccuracyPoint {
+            problem: f[0].into(),
+            scheme: f[1].into(),
+            resolution: f[2].into(),
+            wall_seconds: f[3].parse()?,
+            error: f[4].parse()?,
+        });
+    }
+    plot_accuracy(out, &points)?;
+    Ok(format!("redrew {}", out.join("accuracy.png").display()))
 }
 
 /// Fang's drop with each rheology in `RHEOLOGIES` (model parameters at their defaults).

@@ -154,6 +154,8 @@ fn draw_panel(
             let mut chart = $chart;
             chart
                 .configure_mesh()
+                .x_labels(8)
+                .y_labels(8)
                 .x_label_formatter(&|v| {
                     if panel.log.0 {
                         tick(*v)
