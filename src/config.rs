@@ -158,7 +158,9 @@ pub const EQUATIONS_OF_STATE: &[(&str, &str)] = &[
 
 /// The parameter table: the single source of names, value references, defaults and ranges.
 /// Defaults are Fang et al. 2006's Oldroyd-B drop (D = 2 cm, V = 1 m/s, nu = 0.004 m2/s,
-/// lambda1 = 0.02 s, lambda2 = 0.002 s, so beta = lambda2/lambda1 = 0.1; c = 12.5 m/s).
+/// lambda1 = 0.02 s, lambda2 = 0.002 s, so beta = lambda2/lambda1 = 0.1), except the sound speed,
+/// which is automatic ([`SceneConfig::resolved_sound_speed`]: 12.60 m/s for this drop, Fang's
+/// 12.5 m/s within 1 %).
 pub const PARAMS: &[ParamSpec] = &[
     ParamSpec { name: "scene", value_reference: 1, kind: Kind::Enumeration { type_name: "Scene", items: SCENES, default: "drop" }, unit: "", description: "Which flow to simulate" },
     ParamSpec { name: "scheme", value_reference: 2, kind: Kind::Enumeration { type_name: "Scheme", items: SCHEMES, default: "wcsph" }, unit: "", description: "SPH scheme" },
@@ -179,7 +181,7 @@ pub const PARAMS: &[ParamSpec] = &[
     ParamSpec { name: "cross_K", value_reference: 17, kind: real(1.0, 0.0, 1.0e6), unit: "s", description: "Cross model time constant K (Ren 2015 eq. 5)" },
     ParamSpec { name: "cross_m", value_reference: 18, kind: real(1.0, 0.0, 10.0), unit: "1", description: "Cross model exponent m (Ren 2015 eq. 5)" },
     ParamSpec { name: "particles_per_diameter", value_reference: 19, kind: Kind::Integer { default: 20, min: 4, max: 4000 }, unit: "", description: "Resolution: lattice spacing dx = drop_diameter / particles_per_diameter" },
-    ParamSpec { name: "sound_speed", value_reference: 20, kind: real_pos(12.5, 1.0e5), unit: "m/s", description: "Artificial speed of sound c in the equation of state" },
+    ParamSpec { name: "sound_speed", value_reference: 20, kind: real(0.0, 0.0, 1.0e5), unit: "m/s", description: "Artificial speed of sound c in the equation of state; 0 = automatic: 10 times the largest speed the scene can reach (impact speed plus free fall), for about 1 % density variation" },
     ParamSpec { name: "artificial_viscosity_alpha", value_reference: 21, kind: real(1.0, 0.0, 10.0), unit: "1", description: "Monaghan artificial viscosity alpha (Fang 2006 eq. 31)" },
     ParamSpec { name: "artificial_viscosity_beta", value_reference: 22, kind: real(2.0, 0.0, 10.0), unit: "1", description: "Monaghan artificial viscosity beta (Fang 2006 eq. 31)" },
     ParamSpec { name: "artificial_stress_epsilon", value_reference: 23, kind: real(0.5, 0.0, 1.0), unit: "1", description: "Artificial stress epsilon against the tensile instability (Fang 2006 eq. 42); 0 switches it off" },
@@ -342,6 +344,10 @@ pub struct SceneConfig {
     pub body_force: f64,
     pub viscous_operator: ViscousOperator,
 }
+
+/// Automatic sound speed over the largest expected flow speed: 10 for about 1 % density
+/// variation (see [`SceneConfig::resolved_sound_speed`]).
+pub const SOUND_SPEED_FACTOR: f64 = 10.0;
 
 /// Largest number of particles (fluid + wall) a scene may ask for: about 2 GB of state.
 pub const MAX_PARTICLES: f64 = 5.0e6;
@@ -569,6 +575,49 @@ impl SceneConfig {
         self.smoothing_ratio * self.dx()
     }
 
+    /// Largest speed the scene's fluid can reach from its initial conditions \[m/s\]: for a drop,
+    /// the impact speed plus the free fall from its initial height until its lowest point
+    /// touches the plate, sqrt(V^2 + 2 g h_fall); for a jet, sqrt(U0^2 + 2 g H) with H the
+    /// nozzle height (`initial_drop_height`). A flow that spreads or slides afterwards does not
+    /// speed up much beyond it (viscosity and the plate take energy out), which is what makes
+    /// it the reference for the sound speed. At least 1 mm/s, so a scene with nothing moving
+    /// still gets a finite time step. The elliptical drop fixes its own c (its scene sets it).
+    pub fn max_expected_speed(&self) -> f64 {
+        let v = self.impact_velocity;
+        let fall = match self.scene {
+            Scene::Drop => {
+                let theta = self.plate_inclination.to_radians();
+                (self.drop_height - 0.5 * self.drop_diameter / theta.cos()).max(0.0)
+            }
+            Scene::Jet | Scene::EllipticalDrop => self.drop_height.max(0.0),
+            Scene::Channel => {
+                // The steady Newtonian centre-line speed U = rho g H^2 / (8 eta0); an elastic
+                // start-up overshoots it (Waters & King 1970: 2.85 U at Re = Wi = 1, more when
+                // Wi/Re is large), so elastic models get 3 U. Strongly elastic channels (Wi/Re
+                // well above 1) should set sound_speed themselves.
+                let u = self.density * self.body_force * self.channel_width.powi(2)
+                    / (8.0 * self.viscosity);
+                let elastic =
+                    !matches!(self.rheology, RheologyKind::Newtonian | RheologyKind::Cross);
+                return (if elastic { 3.0 * u } else { u }).max(1e-3);
+            }
+        };
+        (v * v + 2.0 * self.gravity * fall).sqrt().max(1e-3)
+    }
+
+    /// The sound speed the run uses \[m/s\]: `sound_speed` when it is set (> 0), otherwise
+    /// [`SOUND_SPEED_FACTOR`] times [`SceneConfig::max_expected_speed`]. A weakly compressible
+    /// scheme's density varies by about (U/c)^2 (Monaghan 1994; Morris, Fox & Zhu 1997), so
+    /// c = 10 U keeps it near 1 %. For Fang 2006's default drop (V = 1 m/s,
+    /// 3 cm of free fall) that gives c = 12.60 m/s against Fang's 12.5 m/s.
+    pub fn resolved_sound_speed(&self) -> f64 {
+        if self.sound_speed > 0.0 {
+            self.sound_speed
+        } else {
+            SOUND_SPEED_FACTOR * self.max_expected_speed()
+        }
+    }
+
     /// Checks that involve several parameters, or that the scene can actually be built.
     /// Single-value ranges were already enforced by [`SceneConfig::set`]; they are checked
     /// again here so a config built field by field in Rust is held to the same table.
@@ -629,11 +678,19 @@ impl SceneConfig {
     }
 
     /// Read a flat TOML scene file whose keys are the FMU parameter names. Missing keys keep
-    /// their defaults; an unknown key or a bad value is an error naming it.
+    /// their defaults; an unknown key or a bad value is an error naming it, and so is a file that
+    /// gives both `initial_drop_height` and its older name `drop_height`.
     pub fn from_toml_str(text: &str) -> Result<Self, ConfigError> {
         let table: toml::Table = text
             .parse()
             .map_err(|e: toml::de::Error| ConfigError::Parse(e.to_string()))?;
+        if table.contains_key("drop_height") && table.contains_key("initial_drop_height") {
+            return Err(ConfigError::Inconsistent(format!(
+                "both 'initial_drop_height' ({}) and its older name 'drop_height' ({}) are given: \
+                 keep one",
+                table["initial_drop_height"], table["drop_height"]
+            )));
+        }
         let mut cfg = SceneConfig::default();
         for (key, val) in table {
             let v = match val {
@@ -707,8 +764,30 @@ mod tests {
         assert_eq!(c.rheology, RheologyKind::OldroydB);
         assert_eq!(c.drop_diameter, 0.02);
         assert_eq!(c.viscosity_ratio, 0.1);
-        assert_eq!(c.sound_speed, 12.5);
+        assert_eq!(c.sound_speed, 0.0, "automatic by default");
         c.validate().unwrap();
+    }
+
+    #[test]
+    fn automatic_sound_speed_follows_the_impact() {
+        // Fang's drop: V = 1 m/s, centre 4 cm above the plate, so 3 cm of free fall before the
+        // drop touches: U = sqrt(1 + 2 * 9.81 * 0.03) = 1.2604 m/s, c = 12.60 m/s (Fang: 12.5).
+        let mut c = SceneConfig::default();
+        let u = (1.0f64 + 2.0 * 9.81 * 0.03).sqrt();
+        assert!((c.max_expected_speed() - u).abs() < 1e-12);
+        assert!((c.resolved_sound_speed() - 10.0 * u).abs() < 1e-12);
+        assert!((c.resolved_sound_speed() - 12.5).abs() / 12.5 < 0.01);
+        // Five times faster: five times the sound speed, nearly.
+        c.impact_velocity = 5.0;
+        assert!((c.resolved_sound_speed() - 10.0 * (25.0f64 + 0.5886).sqrt()).abs() < 1e-9);
+        // On an inclined plate the drop meets the plate earlier: less free fall.
+        c.impact_velocity = 0.0;
+        c.plate_inclination = 60.0;
+        let fall: f64 = 0.04 - 0.01 / 0.5;
+        assert!((c.max_expected_speed() - (2.0 * 9.81 * fall).sqrt()).abs() < 1e-12);
+        // An explicit value wins.
+        c.sound_speed = 30.0;
+        assert_eq!(c.resolved_sound_speed(), 30.0);
     }
 
     #[test]
@@ -752,6 +831,19 @@ mod tests {
             .to_string();
         assert!(
             e.contains("rheology") && e.contains("honey") && e.contains("oldroyd_b"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn both_names_of_the_drop_height_are_refused() {
+        let c = SceneConfig::from_toml_str("drop_height = 0.05\n").unwrap();
+        assert_eq!(c.drop_height, 0.05, "the older name still works alone");
+        let e = SceneConfig::from_toml_str("drop_height = 0.05\ninitial_drop_height = 0.06\n")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("drop_height") && e.contains("initial_drop_height") && e.contains("0.05"),
             "{e}"
         );
     }

@@ -17,7 +17,7 @@ impl Eos {
         Self {
             kind: cfg.equation_of_state,
             rho0: cfg.density,
-            c: cfg.sound_speed,
+            c: cfg.resolved_sound_speed(),
         }
     }
 

@@ -4,10 +4,10 @@
 //! Three seed schemes (Fang 2006 WCSPH, Ren 2015 PDRI-SPH, King & Lind 2021 ISPH), the
 //! constitutive models of King & Lind's Table I plus the Cross model, a drop impacting a possibly
 //! inclined plate, and an FMI 2.0 Co-Simulation layer over the same [`simulation::Simulation`].
-//! Papers are cited by file in `../shared/papers/` and equation number.
+//! Papers are cited by authors, year and equation number (e.g. "Fang 2006 eq. (38)"); the full
+//! citations are in `docs/references.md`.
 
 pub mod analytic;
-pub mod bench;
 pub mod boundary;
 pub mod choice;
 pub mod config;
@@ -15,13 +15,11 @@ pub mod diagnostics;
 pub mod eos;
 pub mod fmi2;
 pub mod health;
-pub mod io;
 pub mod kernel;
 pub mod neighbors;
 pub mod operators;
 pub mod particles;
 pub mod rheology;
-pub mod run;
 pub mod scene;
 pub mod scheme;
 pub mod simulation;

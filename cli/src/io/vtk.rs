@@ -1,8 +1,8 @@
 //! Particle snapshots as legacy VTK polydata (ASCII), readable by ParaView and VisIt.
 
-use crate::Vec2;
 use std::io::Write;
 use std::path::Path;
+use viscosph::Vec2;
 
 /// One named scalar field per particle.
 pub struct Field<'a> {

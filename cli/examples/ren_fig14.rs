@@ -9,8 +9,8 @@
 //! here X_back = spread_back / D and X_front = -spread_front / D.
 
 use viscosph::config::{SceneConfig, Value};
-use viscosph::io::plot::{line_panels, Panel, Series};
-use viscosph::run::{run, time_scale, RunOptions};
+use viscosph_cli::io::plot::{line_panels, Panel, Series};
+use viscosph_cli::run::{run, time_scale, RunOptions};
 
 fn config(rheology: &str, angle: f64, ppd: i64) -> SceneConfig {
     let mut c = SceneConfig::default();
@@ -81,8 +81,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
         panels.push(Panel {
             title: format!("{title} drop on inclined plates (PDRI-SPH, Ren 2015 Fig. 14)"),
-            x_label: "t* = t V / D".into(),
-            y_label: "X / D".into(),
+            x_label: "t* = t V / D [-]".into(),
+            y_label: "X_back / D > 0 (uphill), X_front / D < 0 [-]".into(),
             series,
             log: (false, false),
         });

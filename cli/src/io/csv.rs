@@ -1,8 +1,8 @@
 //! Time series as CSV: a `time` column, then one column per output (names as in the FMU).
 
-use crate::diagnostics::{Outputs, OUTPUTS};
 use std::io::Write;
 use std::path::Path;
+use viscosph::diagnostics::{Outputs, OUTPUTS};
 
 /// Write `rows` of (time, outputs) to `path`.
 pub fn write_timeseries(path: &Path, rows: &[(f64, Outputs)]) -> std::io::Result<()> {

@@ -1,9 +1,9 @@
 //! Issue 4: Fang's drop (De = 1, beta = 0.1) runs to t* = 8 with every rheology, finite outputs
 //! and no fracture; elastic models keep A positive definite, inelastic ones carry no tensor.
 
-use viscosph::bench::rheology_cases;
 use viscosph::config::{ConformationMethod, RheologyKind};
 use viscosph::simulation::Simulation;
+use viscosph_cli::bench::rheology_cases;
 
 fn run_to_t8(mut c: viscosph::SceneConfig) -> Vec<viscosph::Outputs> {
     c.particles_per_diameter = 16;

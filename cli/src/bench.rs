@@ -9,15 +9,15 @@
 //! A case is a named [`SceneConfig`]; adding a scheme or a scene to a benchmark is adding a line to
 //! its case list.
 
-use crate::config::{RheologyKind, SchemeKind, RHEOLOGIES, SCHEMES};
-use crate::config::{SceneConfig, Value};
-use crate::diagnostics::Outputs;
 use crate::io::plot::{line_panels, status_grid, Panel, Series};
 use crate::run::{run, time_scale, RunOptions};
-use crate::simulation::Simulation;
 use clap::{Args, Subcommand};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+use viscosph::config::{RheologyKind, SchemeKind, RHEOLOGIES, SCHEMES};
+use viscosph::config::{SceneConfig, Value};
+use viscosph::diagnostics::Outputs;
+use viscosph::simulation::Simulation;
 
 #[derive(Args, Debug)]
 pub struct BenchArgs {
@@ -44,6 +44,9 @@ pub enum BenchKind {
     /// Fang's drop (De = 1, beta = 0.1) with every rheology: W*(t*) and H*(t*) overlaid, like
     /// King & Lind's Fig. 16.
     Rheologies,
+    /// Redraw the PNGs that the CSV files in --out hold the data of (accuracy.png), without
+    /// running anything: for a change of the plot style.
+    Replot,
     /// Assemble docs/benchmarks.md from the results of the other subcommands (run them first),
     /// with the machine and commit noted and the PNGs copied to docs/bench/.
     Report {
@@ -55,6 +58,17 @@ pub enum BenchKind {
 
 pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
     std::fs::create_dir_all(&args.out)?;
+    // Which commit each measurement ran on, for the report (which may be assembled later);
+    // taken before measuring, so a commit made meanwhile is not credited.
+    let commit = git_commit();
+    let stem = match args.what {
+        BenchKind::Drop => Some("drop"),
+        BenchKind::Throughput => Some("throughput"),
+        BenchKind::Stability => Some("stability"),
+        BenchKind::Accuracy => Some("accuracy"),
+        BenchKind::Rheologies => Some("rheologies"),
+        BenchKind::Report { .. } | BenchKind::Replot => None,
+    };
     let report = match args.what {
         BenchKind::Drop => bench_drop(&args.out, args.quick)?,
         BenchKind::Throughput => bench_throughput(&args.out, args.quick)?,
@@ -62,7 +76,11 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
         BenchKind::Accuracy => bench_accuracy(&args.out, args.quick)?,
         BenchKind::Rheologies => bench_rheologies(&args.out, args.quick)?,
         BenchKind::Report { ref docs } => bench_report(&args.out, docs)?,
+        BenchKind::Replot => bench_replot(&args.out)?,
     };
+    if let Some(stem) = stem {
+        std::fs::write(args.out.join(format!("{stem}.commit")), commit + "\n")?;
+    }
     println!("{report}");
     Ok(())
 }
@@ -209,8 +227,8 @@ fn bench_drop(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::Err
     for (name, _) in fang_cases() {
         panels.push(Panel {
             title: format!("{name}: W*(t*) at each resolution"),
-            x_label: "t* = t V / D".into(),
-            y_label: "W*".into(),
+            x_label: "t* = t V / D [-]".into(),
+            y_label: "W* = W / D [-]".into(),
             series: rows
                 .iter()
                 .filter(|r| r.case == name)
@@ -229,7 +247,7 @@ fn bench_drop(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::Err
     panels.push(Panel {
         title: "cost against difference from the finest run".into(),
         x_label: "wall time [s]".into(),
-        y_label: "max |W* - W*_finest|".into(),
+        y_label: "max |W* - W*_finest| [-]".into(),
         series: fang_cases()
             .iter()
             .map(|(name, _)| Series {
@@ -243,7 +261,7 @@ fn bench_drop(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::Err
             .collect(),
         log: (true, true),
     });
-    line_panels(&out.join("drop.png"), &panels, 3, (1800, 550))?;
+    line_panels(&out.join("drop.png"), &panels, 3, (1950, 620))?;
     Ok(md)
 }
 
@@ -259,11 +277,11 @@ pub fn measure_throughput(
     steps: u64,
     threads: usize,
 ) -> Result<(f64, usize), Box<dyn std::error::Error>> {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()?;
-    let r: Result<(f64, usize), crate::simulation::SimError> = pool.install(|| {
-        let mut sim = Simulation::new(cfg.clone())?;
+    // The simulation runs in its own pool of `threads` workers.
+    let mut cfg = cfg.clone();
+    cfg.threads = threads as i64;
+    let r: Result<(f64, usize), viscosph::simulation::SimError> = (|| {
+        let mut sim = Simulation::new(cfg)?;
         // One tiny step to learn the stable step, then time `steps` steps.
         sim.advance_to(1e-12)?;
         let dt = sim.state().last_dt;
@@ -274,7 +292,7 @@ pub fn measure_throughput(
         let done = sim.state().step - s0;
         let n = sim.state().fluid.len();
         Ok((n as f64 * done as f64 / secs, n))
-    });
+    })();
     Ok(r?)
 }
 
@@ -357,7 +375,7 @@ fn bench_throughput(out: &Path, quick: bool) -> Result<String, Box<dyn std::erro
 /// output) at a 1 ms communication step. The C ABI hop on top of that layer is a null check and a
 /// `catch_unwind`, nanoseconds per call.
 pub fn fmu_overhead(t_end: f64) -> Result<(f64, f64, f64), Box<dyn std::error::Error>> {
-    use crate::fmi2::instance::Instance;
+    use viscosph::fmi2::instance::Instance;
     let cfg = SceneConfig::default();
     let h = 1e-3;
     let n = (t_end / h).round() as usize;
@@ -375,7 +393,7 @@ pub fn fmu_overhead(t_end: f64) -> Result<(f64, f64, f64), Box<dyn std::error::E
     }
     let chunks = start.elapsed().as_secs_f64();
 
-    let vrs: Vec<u32> = crate::OUTPUTS
+    let vrs: Vec<u32> = viscosph::OUTPUTS
         .iter()
         .filter(|o| o.name != "particle_count")
         .map(|o| o.value_reference)
@@ -384,8 +402,8 @@ pub fn fmu_overhead(t_end: f64) -> Result<(f64, f64, f64), Box<dyn std::error::E
     let start = std::time::Instant::now();
     let mut inst = Instance::new("bench", false, Box::new(|_, _, _| {}));
     let ok =
-        |s: crate::fmi2::types::Status, what: &str| -> Result<(), Box<dyn std::error::Error>> {
-            if s == crate::fmi2::types::Status::Ok {
+        |s: viscosph::fmi2::types::Status, what: &str| -> Result<(), Box<dyn std::error::Error>> {
+            if s == viscosph::fmi2::types::Status::Ok {
                 Ok(())
             } else {
                 Err(format!("FMI layer: {what} answered {s:?}").into())
@@ -500,7 +518,7 @@ fn bench_accuracy(out: &Path, quick: bool) -> Result<String, Box<dyn std::error:
             };
             intervals.into_iter().map(move |k| {
                 let c = SceneConfig {
-                    scene: crate::config::Scene::EllipticalDrop,
+                    scene: viscosph::config::Scene::EllipticalDrop,
                     scheme,
                     density_reinit_interval: k,
                     ..Default::default()
@@ -521,8 +539,8 @@ fn bench_accuracy(out: &Path, quick: bool) -> Result<String, Box<dyn std::error:
                 ..base.clone()
             };
             let opts = RunOptions {
-                t_end: crate::scene::elliptical_drop::T_END,
-                output_interval: crate::scene::elliptical_drop::T_END,
+                t_end: viscosph::scene::elliptical_drop::T_END,
+                output_interval: viscosph::scene::elliptical_drop::T_END,
                 ..RunOptions::for_scene(&cfg)
             };
             eprintln!("bench: elliptical drop, {name} at {ppd} ...");
@@ -556,8 +574,19 @@ fn bench_accuracy(out: &Path, quick: bool) -> Result<String, Box<dyn std::error:
     }
     std::fs::write(out.join("accuracy.csv"), &csv)?;
     std::fs::write(out.join("accuracy.md"), &md)?;
-    let mut problems: Vec<String> = points.iter().map(|p| p.problem.clone()).collect();
-    problems.dedup();
+    plot_accuracy(out, &points)?;
+    Ok(md)
+}
+
+/// `accuracy.png` from the points of `accuracy.csv`: error against wall time per problem.
+fn plot_accuracy(out: &Path, points: &[AccuracyPoint]) -> Result<(), Box<dyn std::error::Error>> {
+    // Each problem once, in the order first met (the points come scheme by scheme).
+    let mut problems: Vec<String> = Vec::new();
+    for p in points {
+        if !problems.contains(&p.problem) {
+            problems.push(p.problem.clone());
+        }
+    }
     let panels: Vec<Panel> = problems
         .iter()
         .map(|prob| {
@@ -570,7 +599,11 @@ fn bench_accuracy(out: &Path, quick: bool) -> Result<String, Box<dyn std::error:
             Panel {
                 title: format!("{prob}: error against cost"),
                 x_label: "wall time [s]".into(),
-                y_label: "error".into(),
+                y_label: if prob.starts_with("drop") {
+                    "max |W* - W*_extrapolated| [-]".into()
+                } else {
+                    "|semi-major axis error| [-]".into()
+                },
                 series: schemes
                     .iter()
                     .map(|s| Series {
@@ -597,7 +630,31 @@ fn bench_accuracy(out: &Path, quick: bool) -> Result<String, Box<dyn std::error:
             ),
         )?;
     }
-    Ok(md)
+    Ok(())
+}
+
+/// Redraw the PNGs that can be drawn from the CSV files in `out` without running anything
+/// (today `accuracy.png` from `accuracy.csv`), e.g. after a change of the plot style.
+fn bench_replot(out: &Path) -> Result<String, Box<dyn std::error::Error>> {
+    let path = out.join("accuracy.csv");
+    let text = std::fs::read_to_string(&path)
+        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let mut points = Vec::new();
+    for line in text.lines().skip(1).filter(|l| !l.trim().is_empty()) {
+        let f: Vec<&str> = line.split(',').collect();
+        if f.len() != 5 {
+            return Err(format!("{}: bad row '{line}'", path.display()).into());
+        }
+        points.push(AccuracyPoint {
+            problem: f[0].into(),
+            scheme: f[1].into(),
+            resolution: f[2].into(),
+            wall_seconds: f[3].parse()?,
+            error: f[4].parse()?,
+        });
+    }
+    plot_accuracy(out, &points)?;
+    Ok(format!("redrew {}", out.join("accuracy.png").display()))
 }
 
 /// Fang's drop with each rheology in `RHEOLOGIES` (model parameters at their defaults).
@@ -632,7 +689,10 @@ fn bench_rheologies(out: &Path, quick: bool) -> Result<String, Box<dyn std::erro
             .iter()
             .map(|(t, o)| (t / ts, o.drop_width / d))
             .collect();
-        let (tmax, wmax) = first_peak(&w);
+        let (peak_w, peak_t) = match first_peak(&w) {
+            Some((t, w)) => (format!("{w:.3}"), format!("{t:.2}")),
+            None => ("none (keeps spreading)".to_string(), "-".to_string()),
+        };
         let last = res.series.last().expect("series").1;
         let trace = res
             .series
@@ -641,7 +701,7 @@ fn bench_rheologies(out: &Path, quick: bool) -> Result<String, Box<dyn std::erro
             .fold(0.0, f64::max);
         writeln!(
             md,
-            "| {r} | {wmax:.3} | {tmax:.2} | {:.3} | {:.3} | {} | {:.2} | {} |",
+            "| {r} | {peak_w} | {peak_t} | {:.3} | {:.3} | {} | {:.2} | {} |",
             last.drop_width / d,
             last.drop_height / d,
             if trace > 0.0 {
@@ -675,16 +735,26 @@ fn bench_rheologies(out: &Path, quick: bool) -> Result<String, Box<dyn std::erro
     Ok(md)
 }
 
-/// The first local maximum of a curve once it has risen 1 % above its start (the last point
-/// if it never falls): the first spreading peak of W*, whatever happens before impact.
-pub fn first_peak(points: &[(f64, f64)]) -> (f64, f64) {
-    let start = points.first().map(|p| p.1).unwrap_or(0.0);
-    points
-        .windows(2)
-        .find(|w| w[0].1 > 1.01 * start && w[1].1 < w[0].1)
-        .map(|w| w[0])
-        .or_else(|| points.last().copied())
-        .unwrap_or((0.0, 0.0))
+/// The first spreading peak of W*: the first point, once the curve has risen 1 % above its
+/// start, after which the curve falls by 1 % of it before it rises above it again (a retraction,
+/// not a wiggle of one particle spacing). `None` if the drop never retracts (a Newtonian drop
+/// keeps spreading): its largest W* is then its last, which is no peak.
+pub fn first_peak(points: &[(f64, f64)]) -> Option<(f64, f64)> {
+    let start = points.first()?.1;
+    for (i, p) in points.iter().enumerate() {
+        if p.1 <= 1.01 * start {
+            continue;
+        }
+        for q in &points[i + 1..] {
+            if q.1 > p.1 {
+                break;
+            }
+            if q.1 < 0.99 * p.1 {
+                return Some(*p);
+            }
+        }
+    }
+    None
 }
 
 /// One line about the machine: CPU model, cores, memory.
@@ -714,9 +784,10 @@ pub fn machine_description() -> String {
     format!("{cpu}, {cores} cores, {mem}")
 }
 
+/// The commit the binary runs from, `-dirty` if the work tree has uncommitted changes.
 fn git_commit() -> String {
     std::process::Command::new("git")
-        .args(["rev-parse", "--short", "HEAD"])
+        .args(["describe", "--always", "--dirty", "--abbrev=7"])
         .output()
         .ok()
         .filter(|o| o.status.success())
@@ -776,10 +847,35 @@ fn bench_report(results: &Path, docs: &Path) -> Result<String, Box<dyn std::erro
     std::fs::create_dir_all(&img_dir)?;
     let mut md = String::from("# ViscoSPH benchmarks\n\n");
     writeln!(md, "Generated by `viscosph bench report` from the results of the commands named in each section.\n")?;
+    // The commit each section was measured on (written by the subcommand that measured it).
+    let measured = |file: &str| {
+        let f = results.join(file.replace(".md", ".commit"));
+        std::fs::read_to_string(f)
+            .ok()
+            .map(|t| t.trim().to_string())
+    };
+    let mut commits: Vec<String> = REPORT_SECTIONS
+        .iter()
+        .filter_map(|(_, _, file, _)| measured(file))
+        .collect();
+    commits.sort();
+    commits.dedup();
     writeln!(md, "- machine: {}", machine_description())?;
-    writeln!(md, "- commit: {}\n", git_commit())?;
+    writeln!(
+        md,
+        "- measured on commit: {}",
+        if commits.is_empty() {
+            "unknown".to_string()
+        } else {
+            commits.join(", ")
+        }
+    )?;
+    writeln!(md, "- report assembled at commit: {}\n", git_commit())?;
     for (title, cmd, file, pngs) in REPORT_SECTIONS {
         writeln!(md, "## {title}\n\n`{cmd}`\n")?;
+        if let Some(c) = measured(file) {
+            writeln!(md, "Measured on commit {c}.\n")?;
+        }
         match std::fs::read_to_string(results.join(file)) {
             Ok(t) => md.push_str(&t),
             Err(_) => writeln!(
@@ -828,7 +924,7 @@ pub fn classify(cfg: &SceneConfig, t_star_end: f64) -> Option<Outcome> {
         },
         Err(e) => {
             let (t, cause) = match &e {
-                crate::simulation::SimError::Breakdown { time, cause, .. } => {
+                viscosph::simulation::SimError::Breakdown { time, cause, .. } => {
                     (Some(time / ts), cause.clone())
                 }
                 other => (None, other.to_string()),
@@ -954,7 +1050,8 @@ fn bench_stability(out: &Path, quick: bool) -> Result<String, Box<dyn std::error
         status_grid(
             &out.join(format!("stability_de_{scheme}.png")),
             &format!("{scheme}: stable (green) / broken (red) drops against De"),
-            "De = lambda V / D",
+            "De = lambda V / D [-]",
+            "rheology",
             &des.iter().map(|d| d.to_string()).collect::<Vec<_>>(),
             &rheos.iter().map(|r| r.to_string()).collect::<Vec<_>>(),
             &cells,
@@ -1033,6 +1130,7 @@ fn bench_stability(out: &Path, quick: bool) -> Result<String, Box<dyn std::error
             &out.join(format!("stability_{name}.png")),
             &format!("Oldroyd-B drop: stable (green) / broken (red) against {label}"),
             label,
+            "scheme",
             &values.iter().map(|d| d.to_string()).collect::<Vec<_>>(),
             &schemes.iter().map(|s| s.to_string()).collect::<Vec<_>>(),
             &cells,
@@ -1046,6 +1144,38 @@ fn bench_stability(out: &Path, quick: bool) -> Result<String, Box<dyn std::error
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_curve_that_keeps_rising_has_no_first_peak() {
+        // A Newtonian drop: W* rises, with a wiggle smaller than 1 %, to its last value.
+        let rising: Vec<(f64, f64)> = (0..50)
+            .map(|k| {
+                let t = k as f64 * 0.1;
+                (t, 1.0 + t - if k == 20 { 0.005 } else { 0.0 })
+            })
+            .collect();
+        assert_eq!(first_peak(&rising), None);
+        // An Oldroyd-B drop: up to 2.1 at t* = 2.2, retracts to 1.7, spreads again past 2.1.
+        let retracting: Vec<(f64, f64)> = (0..80)
+            .map(|k| {
+                let t = k as f64 * 0.1;
+                let w = if t <= 2.2 {
+                    1.0 + 0.5 * t
+                } else if t <= 4.0 {
+                    2.1 - 0.4 * (t - 2.2) / 1.8
+                } else {
+                    1.7 + 0.3 * (t - 4.0)
+                };
+                (t, w)
+            })
+            .collect();
+        let (t, w) = first_peak(&retracting).unwrap();
+        assert!((t - 2.2).abs() < 1e-9 && (w - 2.1).abs() < 1e-9, "{t} {w}");
+        assert!(
+            retracting.last().unwrap().1 > w,
+            "the final value is larger: not the peak"
+        );
+    }
 
     #[test]
     fn ppd_for_hits_the_particle_count() {

@@ -83,7 +83,19 @@ fn drop_throughput_rheologies_and_report() {
         .unwrap();
     assert!(o.status.success());
     let report = std::fs::read_to_string(docs.join("benchmarks.md")).unwrap();
-    assert!(report.contains("machine:") && report.contains("commit:"));
+    assert!(report.contains("machine:") && report.contains("measured on commit:"));
+    let head = String::from_utf8(
+        Command::new("git")
+            .args(["describe", "--always", "--dirty", "--abbrev=7"])
+            .output()
+            .unwrap()
+            .stdout,
+    )
+    .unwrap();
+    assert!(
+        report.contains(&format!("Measured on commit {}.", head.trim())),
+        "the sections name the commit they were measured on"
+    );
     assert!(report.contains("| newtonian |") && report.contains("cost ratio"));
     assert!(docs.join("bench/rheologies.png").exists());
 }

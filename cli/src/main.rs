@@ -4,8 +4,10 @@ use clap::{Parser, Subcommand};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
-use viscosph::run::{run, RunOptions};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use viscosph::SceneConfig;
+use viscosph_cli::run::{run, sound_speed_text, RunOptions};
 
 #[derive(Parser)]
 #[command(
@@ -25,7 +27,9 @@ enum Command {
     Run {
         /// Scene file (TOML).
         scene: Option<PathBuf>,
-        /// Output directory: timeseries.csv, particles_*.vtk, width_height.png, particles.png.
+        /// Output directory: timeseries.csv, particles_*.vtk, walls.vtk, width_height.png,
+        /// particles.png, scene.toml. Those files left there by an earlier run are removed first
+        /// (other files are left alone).
         #[arg(long)]
         out: PathBuf,
         /// End time [s]; default t* = 8, i.e. 8 D/V.
@@ -34,11 +38,14 @@ enum Command {
         /// Time between rows of timeseries.csv [s]; default t* = 0.05.
         #[arg(long)]
         output_interval: Option<f64>,
+        /// Run even if the run would take more than 10^8 steps.
+        #[arg(long)]
+        force: bool,
     },
     /// Print the default scene file with every parameter.
     DefaultScene,
     /// Benchmarks: see `viscosph bench --help`.
-    Bench(viscosph::bench::BenchArgs),
+    Bench(viscosph_cli::bench::BenchArgs),
 }
 
 fn main() -> ExitCode {
@@ -49,10 +56,11 @@ fn main() -> ExitCode {
             out,
             t_end,
             output_interval,
+            force,
         } => {
             let cfg = match scene {
                 Some(path) => match std::fs::read_to_string(&path)
-                    .map_err(|e| e.to_string())
+                    .map_err(|e| format!("cannot read the scene file: {e}"))
                     .and_then(|t| SceneConfig::from_toml_str(&t).map_err(|e| e.to_string()))
                 {
                     Ok(c) => c,
@@ -76,6 +84,21 @@ fn main() -> ExitCode {
             }
             opts.out_dir = Some(out.clone());
             opts.progress = std::io::stderr().is_terminal();
+            opts.force = force;
+            // SIGINT (Ctrl-C) and SIGTERM: stop at the next step, write the files, exit 130.
+            let stop = Arc::new(AtomicBool::new(false));
+            let flag = stop.clone();
+            if let Err(e) = ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed)) {
+                eprintln!("warning: cannot catch Ctrl-C ({e}): an interrupted run writes no files");
+            }
+            opts.stop = Some(stop);
+            match viscosph::Simulation::new(cfg.clone()) {
+                Ok(sim) => println!("{}", sound_speed_text(&cfg, sim.effective_config())),
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    return ExitCode::from(2);
+                }
+            }
             match run(&cfg, &opts) {
                 Ok(r) => {
                     println!(
@@ -109,6 +132,13 @@ fn main() -> ExitCode {
                         eprintln!("error: {e}");
                         return ExitCode::from(1);
                     }
+                    if let Some(t) = r.interrupted {
+                        eprintln!(
+                            "interrupted at t = {t:.6} s: the files in {} hold the run up to then",
+                            out.display()
+                        );
+                        return ExitCode::from(130);
+                    }
                     ExitCode::SUCCESS
                 }
                 Err(e) => {
@@ -121,7 +151,7 @@ fn main() -> ExitCode {
             print!("{}", SceneConfig::default().to_toml_string());
             ExitCode::SUCCESS
         }
-        Command::Bench(args) => match viscosph::bench::main(args) {
+        Command::Bench(args) => match viscosph_cli::bench::main(args) {
             Ok(()) => ExitCode::SUCCESS,
             Err(e) => {
                 eprintln!("error: {e}");
