@@ -15,4 +15,5 @@ pub mod kinematics;
 pub mod pairs;
 pub mod shifting;
 pub mod stress;
+pub mod sums;
 pub mod surface;

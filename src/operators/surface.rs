@@ -70,7 +70,7 @@ pub fn detect<K: Kernel>(
             (div, (c, g * inv_h))
         })
         .unzip();
-    let mean_c = crate::scheme::ppe::fixed_sum(&concentration) / n_fluid.max(1) as f64;
+    let mean_c = crate::operators::sums::fixed_sum(&concentration) / n_fluid.max(1) as f64;
     let is_surface: Vec<bool> = (0..n_fluid)
         .map(|i| div_r[i] <= threshold(concentration[i] / mean_c))
         .collect();

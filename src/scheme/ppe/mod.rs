@@ -86,8 +86,7 @@ mod krylov;
 pub use csr::*;
 pub use krylov::*;
 
-/// Chunk length of the fixed-order reductions (dot products, norms).
-pub const DOT_CHUNK: usize = 2048;
+pub use crate::operators::sums::{dot, fixed_sum, DOT_CHUNK};
 /// Rows per parallel task in the matrix-vector product.
 const ROW_CHUNK: usize = 256;
 
