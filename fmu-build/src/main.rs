@@ -112,14 +112,17 @@ fn run() -> Result<(), String> {
     // linux64: against glibc 2.17 with zig as the linker when cargo-zigbuild is there (a plain
     // build links the newest symbol versions of this machine's glibc, e.g. hypot@GLIBC_2.35,
     // and does not load on older distributions), else a plain build that says so.
-    let linux_lib = match zig_path(&root) {
-        Some(zig) => {
+    let linux_lib = match zig_tools(&root) {
+        Some((path, zig)) => {
             cargo_build(
                 &cargo,
                 &root,
                 &["zigbuild", "--target", LINUX_ZIG_TARGET],
                 &cross_dir,
-                &[("CARGO_ZIGBUILD_ZIG_PATH", zig.as_os_str())],
+                &[
+                    ("PATH", path.as_os_str()),
+                    ("CARGO_ZIGBUILD_ZIG_PATH", zig.as_os_str()),
+                ],
             )?;
             cross_dir
                 .join("x86_64-unknown-linux-gnu")
@@ -129,7 +132,7 @@ fn run() -> Result<(), String> {
         None => {
             notes.push(
                 "linux64 binary built against this machine's glibc: it will not load on older \
-                 distributions (install `pip install ziglang` and `cargo install cargo-zigbuild` \
+                 distributions (`pip install cargo-zigbuild` into .venv, which brings ziglang, \
                  for one that needs glibc 2.17)"
                     .into(),
             );
@@ -224,11 +227,12 @@ fn cargo_build(
     Ok(())
 }
 
-/// The zig compiler cargo-zigbuild should use, if cargo-zigbuild is installed: `zig` on the
-/// PATH, or the `python-zig` of PyPI's ziglang in the project's .venv (where
-/// tests/python/setup_venv.sh installs it).
-fn zig_path(root: &Path) -> Option<PathBuf> {
-    let has = |prog: &str, arg: &str| {
+/// `(PATH, zig)` for `cargo zigbuild`, if cargo-zigbuild and zig are installed: from the
+/// project's .venv (PyPI's cargo-zigbuild and ziglang, which tests/python/setup_venv.sh
+/// installs), else from the PATH. The PATH returned has .venv/bin first, where cargo looks for
+/// the `cargo-zigbuild` subcommand.
+fn zig_tools(root: &Path) -> Option<(std::ffi::OsString, PathBuf)> {
+    let works = |prog: &Path, arg: &str| {
         Command::new(prog)
             .arg(arg)
             .stdout(std::process::Stdio::null())
@@ -237,14 +241,21 @@ fn zig_path(root: &Path) -> Option<PathBuf> {
             .map(|s| s.success())
             .unwrap_or(false)
     };
-    if !has("cargo-zigbuild", "--version") {
+    let venv_bin = root.join(".venv").join("bin");
+    let mut dirs = vec![venv_bin.clone()];
+    dirs.extend(std::env::split_paths(
+        &std::env::var_os("PATH").unwrap_or_default(),
+    ));
+    let path = std::env::join_paths(&dirs).ok()?;
+    let find = |name: &str| dirs.iter().map(|d| d.join(name)).find(|p| p.is_file());
+    let zigbuild = find("cargo-zigbuild")?;
+    if !works(&zigbuild, "--version") {
         return None;
     }
-    let venv_zig = root.join(".venv").join("bin").join("python-zig");
-    if venv_zig.is_file() && has(venv_zig.to_str()?, "version") {
-        return Some(venv_zig);
-    }
-    has("zig", "version").then(|| PathBuf::from("zig"))
+    let zig = find("python-zig")
+        .filter(|z| works(z, "version"))
+        .or_else(|| find("zig").filter(|z| works(z, "version")))?;
+    Some((path, zig))
 }
 
 /// Whether the win64 DLL can be built here, and if not, what is missing.

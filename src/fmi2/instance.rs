@@ -989,6 +989,68 @@ mod tests {
     }
 
     #[test]
+    fn string_twins_set_and_read_the_enumerations_all_or_nothing() {
+        let (mut i, log) = instance(false);
+        let twin = |name: &str| vr(name) + crate::config::NAME_VR_OFFSET;
+        assert_eq!(
+            i.set_string(
+                &[twin("rheology"), twin("scheme")],
+                &[Some("giesekus".into()), Some("pdri".into())]
+            ),
+            Status::Ok
+        );
+        assert_eq!(i.config().rheology, crate::config::RheologyKind::Giesekus);
+        assert_eq!(i.config().scheme, crate::config::SchemeKind::Pdri);
+        // a bad name in the second place leaves the first value unset too
+        assert_eq!(
+            i.set_string(
+                &[twin("rheology"), twin("scene")],
+                &[Some("cross".into()), Some("splash".into())]
+            ),
+            Status::Error
+        );
+        let msg = log.borrow().last().unwrap().2.clone();
+        assert!(
+            msg.contains("scene_name") && msg.contains("splash") && msg.contains("'drop'"),
+            "{msg}"
+        );
+        assert_eq!(i.reset(), Status::Ok);
+        assert_eq!(
+            i.set_string(&[twin("rheology")], &[Some("ucm".into())]),
+            Status::Ok
+        );
+        assert_eq!(
+            i.set_string(&[twin("scheme")], &[None]),
+            Status::Error,
+            "NULL is refused"
+        );
+        i.reset();
+        assert_eq!(i.enter_initialization_mode(), Status::Ok);
+        let mut names = [""; 2];
+        assert_eq!(
+            i.get_string(&[twin("rheology"), twin("equation_of_state")], &mut names),
+            Status::Ok
+        );
+        assert_eq!(
+            names,
+            ["oldroyd_b", "linear"],
+            "reset restored the defaults"
+        );
+        // the Enumeration itself is not a String, nor the twin an Integer
+        assert_eq!(
+            i.get_string(&[vr("rheology")], &mut names[..1]),
+            Status::Error
+        );
+        let mut ints = [0];
+        assert_eq!(i.get_integer(&[twin("rheology")], &mut ints), Status::Error);
+        let msg = log.borrow().last().unwrap().2.clone();
+        assert!(
+            msg.contains("rheology_name") && msg.contains("String"),
+            "{msg}"
+        );
+    }
+
+    #[test]
     fn do_step_before_initialization_is_refused_and_reset_recovers() {
         let (mut i, log) = instance(false);
         assert_eq!(i.do_step(0.0, 0.001), Status::Error);
