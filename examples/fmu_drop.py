@@ -39,6 +39,8 @@ def parse_start_values(pairs, md):
             values[name] = items[text] if text in items else int(text)
         elif v.type == "Integer":
             values[name] = int(text)
+        elif v.type == "String":  # an enumeration's twin: --set rheology_name=giesekus
+            values[name] = text
         else:
             values[name] = float(text)
     return values
