@@ -3,6 +3,8 @@
 # 2006's Oldroyd-B drop) through it with fmpy, writing results/fmu_drop.csv and
 # results/fmu_drop.png. Extra arguments go to examples/fmu_drop.py, e.g.
 #   bash examples/main.sh --set plate_inclination=30 --set rheology=giesekus
+# Enumerations take their names (rheology=oldroyd_b) or numbers. A numerical breakdown still
+# writes the CSV and the PNG (breakdown marked on it) and makes this script exit non-zero.
 # Idempotent: a second run rebuilds nothing and reinstalls nothing.
 set -euo pipefail
 cd "$(dirname "$0")/.."

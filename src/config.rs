@@ -9,6 +9,10 @@
 //! `modelDescription/modelDescription.xml` is checked against this table by a test, so the FMU's
 //! interface and the solver cannot drift apart.
 
+use crate::rheology::{
+    AnyRheology, Cross, FeneCr, FeneP, Giesekus, Newtonian, OldroydB, PttExponential, PttLinear,
+};
+pub use crate::rheology::{ConformationMethod, CONFORMATION_METHODS};
 use serde::{Deserialize, Serialize};
 use std::fmt;
 use thiserror::Error;
@@ -93,6 +97,10 @@ pub const SCENES: &[(&str, &str)] = &[
     ("drop", "2D drop falling onto a straight rigid plate"),
     ("jet", "buckling jet from a nozzle onto a plate"),
     (
+        "channel",
+        "start-up of plane Poiseuille flow between two walls, periodic along the flow (Waters & King 1970)",
+    ),
+    (
         "elliptical_drop",
         "Monaghan's rotating-stretching elliptical drop, no walls (Ren 2015 section 4.1)",
     ),
@@ -116,13 +124,6 @@ pub const RHEOLOGIES: &[(&str, &str)] = &[
     ("giesekus", "Giesekus"),
     ("cross", "Cross shear-thinning generalized Newtonian"),
 ];
-pub const CONFORMATION_METHODS: &[(&str, &str)] = &[
-    (
-        "direct",
-        "direct upper-convected update of the conformation tensor",
-    ),
-    ("log", "log-conformation (King & Lind eqs. 12-19, 29-33)"),
-];
 pub const ARTIFICIAL_STRESS_KINDS: &[(&str, &str)] = &[
     (
         "fang",
@@ -131,6 +132,20 @@ pub const ARTIFICIAL_STRESS_KINDS: &[(&str, &str)] = &[
     (
         "ren",
         "artificial stress keyed to d2W, Ren 2015 eqs. 20a-20b",
+    ),
+];
+pub const VISCOUS_OPERATORS: &[(&str, &str)] = &[
+    (
+        "auto",
+        "the scene's choice: nested for the drops (Fang's scheme as published), laplacian for the channel",
+    ),
+    (
+        "nested",
+        "viscous stress inside sigma, through the nested first-derivative operator (Fang 2006 eqs. 8, 27)",
+    ),
+    (
+        "laplacian",
+        "solvent viscosity through Morris, Fox & Zhu 1997's viscous Laplacian (the form of King & Lind eq. 8)",
     ),
 ];
 pub const EQUATIONS_OF_STATE: &[(&str, &str)] = &[
@@ -143,7 +158,9 @@ pub const EQUATIONS_OF_STATE: &[(&str, &str)] = &[
 
 /// The parameter table: the single source of names, value references, defaults and ranges.
 /// Defaults are Fang et al. 2006's Oldroyd-B drop (D = 2 cm, V = 1 m/s, nu = 0.004 m2/s,
-/// lambda1 = 0.02 s, lambda2 = 0.002 s, so beta = lambda2/lambda1 = 0.1; c = 12.5 m/s).
+/// lambda1 = 0.02 s, lambda2 = 0.002 s, so beta = lambda2/lambda1 = 0.1), except the sound speed,
+/// which is automatic ([`SceneConfig::resolved_sound_speed`]: 12.60 m/s for this drop, Fang's
+/// 12.5 m/s within 1 %).
 pub const PARAMS: &[ParamSpec] = &[
     ParamSpec { name: "scene", value_reference: 1, kind: Kind::Enumeration { type_name: "Scene", items: SCENES, default: "drop" }, unit: "", description: "Which flow to simulate" },
     ParamSpec { name: "scheme", value_reference: 2, kind: Kind::Enumeration { type_name: "Scheme", items: SCHEMES, default: "wcsph" }, unit: "", description: "SPH scheme" },
@@ -164,7 +181,7 @@ pub const PARAMS: &[ParamSpec] = &[
     ParamSpec { name: "cross_K", value_reference: 17, kind: real(1.0, 0.0, 1.0e6), unit: "s", description: "Cross model time constant K (Ren 2015 eq. 5)" },
     ParamSpec { name: "cross_m", value_reference: 18, kind: real(1.0, 0.0, 10.0), unit: "1", description: "Cross model exponent m (Ren 2015 eq. 5)" },
     ParamSpec { name: "particles_per_diameter", value_reference: 19, kind: Kind::Integer { default: 20, min: 4, max: 4000 }, unit: "", description: "Resolution: lattice spacing dx = drop_diameter / particles_per_diameter" },
-    ParamSpec { name: "sound_speed", value_reference: 20, kind: real_pos(12.5, 1.0e5), unit: "m/s", description: "Artificial speed of sound c in the equation of state" },
+    ParamSpec { name: "sound_speed", value_reference: 20, kind: real(0.0, 0.0, 1.0e5), unit: "m/s", description: "Artificial speed of sound c in the equation of state; 0 = automatic: 10 times the largest speed the scene can reach (impact speed plus free fall), for about 1 % density variation" },
     ParamSpec { name: "artificial_viscosity_alpha", value_reference: 21, kind: real(1.0, 0.0, 10.0), unit: "1", description: "Monaghan artificial viscosity alpha (Fang 2006 eq. 31)" },
     ParamSpec { name: "artificial_viscosity_beta", value_reference: 22, kind: real(2.0, 0.0, 10.0), unit: "1", description: "Monaghan artificial viscosity beta (Fang 2006 eq. 31)" },
     ParamSpec { name: "artificial_stress_epsilon", value_reference: 23, kind: real(0.5, 0.0, 1.0), unit: "1", description: "Artificial stress epsilon against the tensile instability (Fang 2006 eq. 42); 0 switches it off" },
@@ -177,7 +194,54 @@ pub const PARAMS: &[ParamSpec] = &[
     ParamSpec { name: "density_reinit_interval", value_reference: 30, kind: Kind::Integer { default: 20, min: 0, max: 1_000_000 }, unit: "", description: "PDRI: steps between density reinitialisations (0 = never)" },
     ParamSpec { name: "equation_of_state", value_reference: 31, kind: Kind::Enumeration { type_name: "EquationOfState", items: EQUATIONS_OF_STATE, default: "linear" }, unit: "", description: "Equation of state relating pressure to density" },
     ParamSpec { name: "fracture_void_fraction", value_reference: 32, kind: real(0.02, 0.0, 1.0), unit: "1", description: "Health: fraction of the fluid's area torn open into holes beyond which the run stops with a tensile-instability fracture (0 = never check)" },
+    ParamSpec { name: "threads", value_reference: 40, kind: Kind::Integer { default: 0, min: 0, max: 1024 }, unit: "", description: "Worker threads of this simulation's own thread pool; 0 = the RAYON_NUM_THREADS environment variable, else one per core. Results do not depend on it" },
+    ParamSpec { name: "channel_width", value_reference: 41, kind: real_pos(0.02, 100.0), unit: "m", description: "Channel scene: distance H between the two walls; particles_per_diameter counts particles across it" },
+    ParamSpec { name: "channel_length", value_reference: 42, kind: real(0.0, 0.0, 1000.0), unit: "m", description: "Channel scene: period along the flow (rounded to whole particle spacings); 0 = channel_width" },
+    ParamSpec { name: "body_force", value_reference: 43, kind: real(80.0, 0.0, 1.0e6), unit: "m/s2", description: "Channel scene: body force per unit mass along the channel, switched on at t = 0 (gravity is off in the channel)" },
+    ParamSpec { name: "viscous_operator", value_reference: 44, kind: Kind::Enumeration { type_name: "ViscousOperator", items: VISCOUS_OPERATORS, default: "auto" }, unit: "", description: "Weakly compressible schemes: the solvent viscosity inside the stress (Fang's nested operator) or through Morris' Laplacian, which keeps shear layers at walls free of particle-scale zigzag" },
 ];
+
+/// The rheology is built here, next to the table that names its parameters, so that the
+/// constitutive models (`crate::rheology`) depend on nothing above them.
+impl AnyRheology {
+    /// Build the configured model from `viscosity` (eta0, total zero-shear), `viscosity_ratio`
+    /// (beta = eta_s/eta0), `relaxation_time` (lambda) and the model's own parameter. UCM is
+    /// Oldroyd-B with beta = 0 whatever `viscosity_ratio` says; Newtonian and Cross ignore
+    /// beta and lambda (the whole viscosity is the solvent's). Parameter ranges were checked by
+    /// the parameter table (`config::PARAMS`).
+    pub fn from_config(cfg: &SceneConfig) -> Result<Self, ConfigError> {
+        let eta0 = cfg.viscosity;
+        let beta = cfg.viscosity_ratio;
+        let lambda = cfg.relaxation_time;
+        Ok(match cfg.rheology {
+            RheologyKind::Newtonian => AnyRheology::Newtonian(Newtonian::new(eta0)),
+            RheologyKind::OldroydB => AnyRheology::OldroydB(OldroydB::new(eta0, beta, lambda)),
+            RheologyKind::Ucm => AnyRheology::OldroydB(OldroydB::new(eta0, 0.0, lambda)),
+            RheologyKind::FeneP => AnyRheology::FeneP(FeneP::new(eta0, beta, lambda, cfg.fene_L2)),
+            RheologyKind::FeneCr => {
+                AnyRheology::FeneCr(FeneCr::new(eta0, beta, lambda, cfg.fene_L2))
+            }
+            RheologyKind::PttLinear => {
+                AnyRheology::PttLinear(PttLinear::new(eta0, beta, lambda, cfg.ptt_epsilon))
+            }
+            RheologyKind::PttExponential => AnyRheology::PttExponential(PttExponential::new(
+                eta0,
+                beta,
+                lambda,
+                cfg.ptt_epsilon,
+            )),
+            RheologyKind::Giesekus => {
+                AnyRheology::Giesekus(Giesekus::new(eta0, beta, lambda, cfg.giesekus_alpha))
+            }
+            RheologyKind::Cross => AnyRheology::Cross(Cross::new(
+                eta0,
+                cfg.cross_viscosity_inf,
+                cfg.cross_K,
+                cfg.cross_m,
+            )),
+        })
+    }
+}
 
 /// Index of a parameter in [`PARAMS`] by name.
 /// `drop_height` is accepted as the older name of `initial_drop_height`: the FMU needs unique
@@ -242,53 +306,27 @@ pub fn name_variable(name: &str) -> Option<&'static ParamSpec> {
         .find(|p| p.name == stem && matches!(p.kind, Kind::Enumeration { .. }))
 }
 
-macro_rules! choice_enum {
-    ($(#[$m:meta])* $name:ident, $table:ident, $($variant:ident = $s:literal),+ $(,)?) => {
-        $(#[$m])*
-        #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Hash)]
-        #[serde(rename_all = "snake_case")]
-        pub enum $name { $($variant),+ }
-        impl $name {
-            /// The snake_case name used in the FMU and in scene files.
-            pub fn as_str(self) -> &'static str { match self { $(Self::$variant => $s),+ } }
-            /// Parse the snake_case name.
-            pub fn parse(s: &str) -> Option<Self> { match s { $($s => Some(Self::$variant),)+ _ => None } }
-            /// FMI enumeration index (1-based, in table order).
-            pub fn index(self) -> i64 {
-                $table.iter().position(|(n, _)| *n == self.as_str()).map(|i| i as i64 + 1).unwrap_or(0)
-            }
-            pub fn from_index(i: i64) -> Option<Self> {
-                if i < 1 { return None; }
-                $table.get((i - 1) as usize).and_then(|(n, _)| Self::parse(n))
-            }
-        }
-        impl fmt::Display for $name {
-            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result { f.write_str(self.as_str()) }
-        }
-    };
-}
-
-choice_enum!(
+crate::choice_enum!(
     /// The flow to simulate.
-    Scene, SCENES, Drop = "drop", Jet = "jet", EllipticalDrop = "elliptical_drop");
-choice_enum!(
+    Scene, SCENES, Drop = "drop", Jet = "jet", EllipticalDrop = "elliptical_drop", Channel = "channel");
+crate::choice_enum!(
     /// The SPH scheme.
     SchemeKind, SCHEMES, Wcsph = "wcsph", Pdri = "pdri", Isph = "isph");
-choice_enum!(
+crate::choice_enum!(
     /// The constitutive model.
     RheologyKind, RHEOLOGIES,
     Newtonian = "newtonian", OldroydB = "oldroyd_b", Ucm = "ucm", FeneP = "fene_p",
     FeneCr = "fene_cr", PttLinear = "ptt_linear", PttExponential = "ptt_exponential",
     Giesekus = "giesekus", Cross = "cross");
-choice_enum!(
-    /// How the conformation tensor is advanced in time.
-    ConformationMethod, CONFORMATION_METHODS, Direct = "direct", Log = "log");
-choice_enum!(
+crate::choice_enum!(
     /// Which artificial stress is used against the tensile instability.
     ArtificialStressKind, ARTIFICIAL_STRESS_KINDS, Fang = "fang", Ren = "ren");
-choice_enum!(
+crate::choice_enum!(
     /// Equation of state.
     EquationOfState, EQUATIONS_OF_STATE, Linear = "linear", Tait = "tait");
+crate::choice_enum!(
+    /// How the solvent's viscous force is discretised.
+    ViscousOperator, VISCOUS_OPERATORS, Auto = "auto", Nested = "nested", Laplacian = "laplacian");
 
 /// A parameter value as it arrives from a scene file or the FMU.
 #[derive(Debug, Clone, PartialEq)]
@@ -345,7 +383,17 @@ pub struct SceneConfig {
     pub density_reinit_interval: i64,
     pub equation_of_state: EquationOfState,
     pub fracture_void_fraction: f64,
+    /// Size of the simulation's own thread pool (0 = RAYON_NUM_THREADS or one per core).
+    pub threads: i64,
+    pub channel_width: f64,
+    pub channel_length: f64,
+    pub body_force: f64,
+    pub viscous_operator: ViscousOperator,
 }
+
+/// Automatic sound speed over the largest expected flow speed: 10 for about 1 % density
+/// variation (see [`SceneConfig::resolved_sound_speed`]).
+pub const SOUND_SPEED_FACTOR: f64 = 10.0;
 
 /// Largest number of particles (fluid + wall) a scene may ask for: about 2 GB of state.
 pub const MAX_PARTICLES: f64 = 5.0e6;
@@ -385,6 +433,11 @@ impl Default for SceneConfig {
             density_reinit_interval: 0,
             equation_of_state: EquationOfState::Linear,
             fracture_void_fraction: 0.0,
+            threads: 0,
+            channel_width: 0.0,
+            channel_length: 0.0,
+            body_force: 0.0,
+            viscous_operator: ViscousOperator::Auto,
         };
         for p in PARAMS {
             let v = match p.kind {
@@ -468,6 +521,7 @@ impl SceneConfig {
                 match name {
                     "particles_per_diameter" => self.particles_per_diameter = i,
                     "density_reinit_interval" => self.density_reinit_interval = i,
+                    "threads" => self.threads = i,
                     _ => unreachable!("integer row without field: {name}"),
                 }
             }
@@ -505,6 +559,9 @@ impl SceneConfig {
                     "equation_of_state" => {
                         self.equation_of_state = EquationOfState::parse(&text).ok_or_else(bad)?
                     }
+                    "viscous_operator" => {
+                        self.viscous_operator = ViscousOperator::parse(&text).ok_or_else(bad)?
+                    }
                     _ => unreachable!("enumeration row without field: {name}"),
                 }
             }
@@ -520,6 +577,7 @@ impl SceneConfig {
             Kind::Integer { .. } => Value::Integer(match name {
                 "particles_per_diameter" => self.particles_per_diameter,
                 "density_reinit_interval" => self.density_reinit_interval,
+                "threads" => self.threads,
                 _ => unreachable!(),
             }),
             Kind::Enumeration { .. } => Value::Integer(match name {
@@ -529,6 +587,7 @@ impl SceneConfig {
                 "conformation_method" => self.conformation_method.index(),
                 "artificial_stress_kind" => self.artificial_stress_kind.index(),
                 "equation_of_state" => self.equation_of_state.index(),
+                "viscous_operator" => self.viscous_operator.index(),
                 _ => unreachable!(),
             }),
         })
@@ -572,6 +631,9 @@ impl SceneConfig {
             "evss_alpha" => &mut self.evss_alpha,
             "artificial_stress_b" => &mut self.artificial_stress_b,
             "fracture_void_fraction" => &mut self.fracture_void_fraction,
+            "channel_width" => &mut self.channel_width,
+            "channel_length" => &mut self.channel_length,
+            "body_force" => &mut self.body_force,
             _ => return None,
         })
     }
@@ -586,35 +648,65 @@ impl SceneConfig {
         self.smoothing_ratio * self.dx()
     }
 
+    /// Largest speed the scene's fluid can reach from its initial conditions \[m/s\]: for a drop,
+    /// the impact speed plus the free fall from its initial height until its lowest point
+    /// touches the plate, sqrt(V^2 + 2 g h_fall); for a jet, sqrt(U0^2 + 2 g H) with H the
+    /// nozzle height (`initial_drop_height`). A flow that spreads or slides afterwards does not
+    /// speed up much beyond it (viscosity and the plate take energy out), which is what makes
+    /// it the reference for the sound speed. At least 1 mm/s, so a scene with nothing moving
+    /// still gets a finite time step. The elliptical drop fixes its own c (its scene sets it).
+    pub fn max_expected_speed(&self) -> f64 {
+        let v = self.impact_velocity;
+        let fall = match self.scene {
+            Scene::Drop => {
+                let theta = self.plate_inclination.to_radians();
+                (self.drop_height - 0.5 * self.drop_diameter / theta.cos()).max(0.0)
+            }
+            Scene::Jet | Scene::EllipticalDrop => self.drop_height.max(0.0),
+            Scene::Channel => {
+                // The steady Newtonian centre-line speed U = rho g H^2 / (8 eta0); an elastic
+                // start-up overshoots it (Waters & King 1970: 2.85 U at Re = Wi = 1, more when
+                // Wi/Re is large), so elastic models get 3 U. Strongly elastic channels (Wi/Re
+                // well above 1) should set sound_speed themselves.
+                let u = self.density * self.body_force * self.channel_width.powi(2)
+                    / (8.0 * self.viscosity);
+                let elastic =
+                    !matches!(self.rheology, RheologyKind::Newtonian | RheologyKind::Cross);
+                return (if elastic { 3.0 * u } else { u }).max(1e-3);
+            }
+        };
+        (v * v + 2.0 * self.gravity * fall).sqrt().max(1e-3)
+    }
+
+    /// The sound speed the run uses \[m/s\]: `sound_speed` when it is set (> 0), otherwise
+    /// [`SOUND_SPEED_FACTOR`] times [`SceneConfig::max_expected_speed`]. A weakly compressible
+    /// scheme's density varies by about (U/c)^2 (Monaghan 1994; Morris, Fox & Zhu 1997), so
+    /// c = 10 U keeps it near 1 %. For Fang 2006's default drop (V = 1 m/s,
+    /// 3 cm of free fall) that gives c = 12.60 m/s against Fang's 12.5 m/s.
+    pub fn resolved_sound_speed(&self) -> f64 {
+        if self.sound_speed > 0.0 {
+            self.sound_speed
+        } else {
+            SOUND_SPEED_FACTOR * self.max_expected_speed()
+        }
+    }
+
     /// Checks that involve several parameters, or that the scene can actually be built.
     /// Single-value ranges were already enforced by [`SceneConfig::set`]; they are checked
     /// again here so a config built field by field in Rust is held to the same table.
+    ///
+    /// The checks that belong to one scene (a drop that starts inside its plate, a scene not
+    /// built yet) are the scene's own: `Simulation::validate` runs both.
     pub fn validate(&self) -> Result<(), ConfigError> {
         for p in PARAMS {
             let v = self.get(p.name)?;
             self.clone().set(p.name, v)?;
         }
         let inconsistent = |s: String| Err(ConfigError::Inconsistent(s));
-        match self.scene {
-            Scene::Drop => {}
-            Scene::EllipticalDrop => {}
-            Scene::Jet => {
-                return inconsistent(
-                    "scene 'jet' is not implemented yet; use scene = 'drop' or 'elliptical_drop'"
-                        .into(),
-                )
-            }
-        }
         if self.scheme == SchemeKind::Isph {
             return inconsistent(
                 "scheme 'isph' is not implemented yet; use scheme = 'wcsph' or 'pdri'".into(),
             );
-        }
-        if !crate::rheology::is_implemented(self.rheology) {
-            return inconsistent(format!(
-                "rheology '{}' is not implemented yet",
-                self.rheology
-            ));
         }
         if self.rheology == RheologyKind::PttLinear && self.ptt_epsilon > 0.5 {
             return inconsistent(format!(
@@ -629,20 +721,6 @@ impl SceneConfig {
                  model (Ren 2015 eq. 5) is shear-thinning, so it must be at most viscosity",
                 self.cross_viscosity_inf, self.viscosity
             ));
-        }
-        if self.scene == Scene::Drop {
-            let theta = self.plate_inclination.to_radians();
-            let normal_gap = self.drop_height * theta.cos() - 0.5 * self.drop_diameter;
-            if normal_gap < self.dx() {
-                return inconsistent(format!(
-                    "initial_drop_height = {} m puts the drop (diameter {} m) within one particle spacing of \
-                     the plate inclined at {} deg: its centre must be at least {:.6} m above the impact point",
-                    self.drop_height,
-                    self.drop_diameter,
-                    self.plate_inclination,
-                    (0.5 * self.drop_diameter + self.dx()) / theta.cos()
-                ));
-            }
         }
         let ppd = self.particles_per_diameter as f64;
         let estimate = self.estimated_particles();
@@ -660,19 +738,32 @@ impl SceneConfig {
     pub fn estimated_particles(&self) -> f64 {
         let ppd = self.particles_per_diameter as f64;
         let fluid = std::f64::consts::FRAC_PI_4 * ppd * ppd;
-        let wall = match self.scene {
-            Scene::Drop => 4.0 * ppd * 20.0,
-            _ => 0.0,
+        let (fluid, wall) = match self.scene {
+            Scene::Drop => (fluid, 4.0 * ppd * 20.0),
+            Scene::Channel => {
+                let along =
+                    (self.channel_length.max(self.channel_width) / self.channel_width) * ppd;
+                (ppd * along, 10.0 * along)
+            }
+            _ => (fluid, 0.0),
         };
         fluid + wall
     }
 
     /// Read a flat TOML scene file whose keys are the FMU parameter names. Missing keys keep
-    /// their defaults; an unknown key or a bad value is an error naming it.
+    /// their defaults; an unknown key or a bad value is an error naming it, and so is a file that
+    /// gives both `initial_drop_height` and its older name `drop_height`.
     pub fn from_toml_str(text: &str) -> Result<Self, ConfigError> {
         let table: toml::Table = text
             .parse()
             .map_err(|e: toml::de::Error| ConfigError::Parse(e.to_string()))?;
+        if table.contains_key("drop_height") && table.contains_key("initial_drop_height") {
+            return Err(ConfigError::Inconsistent(format!(
+                "both 'initial_drop_height' ({}) and its older name 'drop_height' ({}) are given: \
+                 keep one",
+                table["initial_drop_height"], table["drop_height"]
+            )));
+        }
         let mut cfg = SceneConfig::default();
         for (key, val) in table {
             let v = match val {
@@ -746,8 +837,30 @@ mod tests {
         assert_eq!(c.rheology, RheologyKind::OldroydB);
         assert_eq!(c.drop_diameter, 0.02);
         assert_eq!(c.viscosity_ratio, 0.1);
-        assert_eq!(c.sound_speed, 12.5);
+        assert_eq!(c.sound_speed, 0.0, "automatic by default");
         c.validate().unwrap();
+    }
+
+    #[test]
+    fn automatic_sound_speed_follows_the_impact() {
+        // Fang's drop: V = 1 m/s, centre 4 cm above the plate, so 3 cm of free fall before the
+        // drop touches: U = sqrt(1 + 2 * 9.81 * 0.03) = 1.2604 m/s, c = 12.60 m/s (Fang: 12.5).
+        let mut c = SceneConfig::default();
+        let u = (1.0f64 + 2.0 * 9.81 * 0.03).sqrt();
+        assert!((c.max_expected_speed() - u).abs() < 1e-12);
+        assert!((c.resolved_sound_speed() - 10.0 * u).abs() < 1e-12);
+        assert!((c.resolved_sound_speed() - 12.5).abs() / 12.5 < 0.01);
+        // Five times faster: five times the sound speed, nearly.
+        c.impact_velocity = 5.0;
+        assert!((c.resolved_sound_speed() - 10.0 * (25.0f64 + 0.5886).sqrt()).abs() < 1e-9);
+        // On an inclined plate the drop meets the plate earlier: less free fall.
+        c.impact_velocity = 0.0;
+        c.plate_inclination = 60.0;
+        let fall: f64 = 0.04 - 0.01 / 0.5;
+        assert!((c.max_expected_speed() - (2.0 * 9.81 * fall).sqrt()).abs() < 1e-12);
+        // An explicit value wins.
+        c.sound_speed = 30.0;
+        assert_eq!(c.resolved_sound_speed(), 30.0);
     }
 
     #[test]
@@ -796,13 +909,16 @@ mod tests {
     }
 
     #[test]
-    fn drop_inside_plate_is_refused() {
-        let c = SceneConfig {
-            drop_height: 0.01,
-            ..Default::default()
-        };
-        let e = c.validate().unwrap_err().to_string();
-        assert!(e.contains("drop_height"), "{e}");
+    fn both_names_of_the_drop_height_are_refused() {
+        let c = SceneConfig::from_toml_str("drop_height = 0.05\n").unwrap();
+        assert_eq!(c.drop_height, 0.05, "the older name still works alone");
+        let e = SceneConfig::from_toml_str("drop_height = 0.05\ninitial_drop_height = 0.06\n")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("drop_height") && e.contains("initial_drop_height") && e.contains("0.05"),
+            "{e}"
+        );
     }
 
     #[test]

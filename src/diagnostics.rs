@@ -19,6 +19,14 @@
 //! | `time_step` | the last full time step taken |
 //! | `particle_count` | number of fluid particles |
 //! | `void_fraction` | area of holes enclosed by fluid over the fluid's area, on cells of 2 dx (see [`crate::health`]) |
+//! | `centreline_velocity` | channel: mean flow velocity of the particles within dx/2... of the centre line (see [`crate::scene::channel`]); 0 elsewhere |
+//! | `flow_rate` | channel: sum of V_i u_i over the period length, the flow rate per unit depth; 0 elsewhere |
+//! | `wall_shear_stress` | channel: force of the fluid on both walls along the flow, over twice the period length; 0 elsewhere |
+//! | `plate_displacement` | distance the plate has moved along -n (the integral of the `plate_velocity` input); 0 without a plate |
+//!
+//! Outputs that do not apply to a scene hold 0 (`min_conformation_det` 1), never NaN: the drop
+//! fills the drop outputs, the channel its three and the health figures; the elliptical drop
+//! fills width and height as its extents along x and y.
 //!
 //! At a communication time between two internal steps, every output is interpolated linearly
 //! between the two internal states (see `Simulation::advance_to`), so outputs at a given time do
@@ -28,7 +36,12 @@
 //! the sign flipped. Because the same force moves the fluid in that stage, its time integral
 //! equals the change of the drop's momentum minus the gravity impulse, to round-off.
 
-use crate::simulation::State;
+use crate::eos::Eos;
+use crate::kernel::Kernel;
+use crate::neighbors::{CellGrid, Domain, NeighborList};
+use crate::particles::Fluid;
+use crate::state::State;
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// One row of the output table.
@@ -55,17 +68,25 @@ pub const OUTPUTS: &[OutputSpec] = &[
     OutputSpec { name: "time_step", value_reference: 111, unit: "s", description: "Last time step of the solver" },
     OutputSpec { name: "particle_count", value_reference: 112, unit: "", description: "Number of fluid particles" },
     OutputSpec { name: "void_fraction", value_reference: 113, unit: "1", description: "Area of holes torn into the fluid over the fluid's area (tensile-instability fracture measure)" },
+    OutputSpec { name: "centreline_velocity", value_reference: 114, unit: "m/s", description: "Channel: flow velocity on the centre line (0 in other scenes)" },
+    OutputSpec { name: "flow_rate", value_reference: 115, unit: "m2/s", description: "Channel: volume flow rate per unit depth (0 in other scenes)" },
+    OutputSpec { name: "wall_shear_stress", value_reference: 116, unit: "Pa", description: "Channel: shear stress of the fluid on the walls, mean of both, positive along the flow (0 in other scenes)" },
+    OutputSpec { name: "plate_displacement", value_reference: 117, unit: "m", description: "Distance the plate has moved along its normal, away from the fluid, driven by the plate_velocity input" },
 ];
+
+/// Number of outputs.
+pub const N_OUTPUTS: usize = 17;
+const _: () = assert!(OUTPUTS.len() == N_OUTPUTS);
 
 /// `values` and `set_values` from one list of the fields, in the order of [`OUTPUTS`].
 macro_rules! output_fields {
     ($($f:ident),+ $(,)?) => {
         /// Values in the order of [`OUTPUTS`].
-        pub fn values(&self) -> [f64; 13] {
+        pub fn values(&self) -> [f64; N_OUTPUTS] {
             [$(self.$f),+]
         }
         /// Set every value from an array in the order of [`OUTPUTS`].
-        pub fn set_values(&mut self, v: [f64; 13]) {
+        pub fn set_values(&mut self, v: [f64; N_OUTPUTS]) {
             [$(self.$f),+] = v;
         }
     };
@@ -87,6 +108,10 @@ pub struct Outputs {
     pub time_step: f64,
     pub particle_count: f64,
     pub void_fraction: f64,
+    pub centreline_velocity: f64,
+    pub flow_rate: f64,
+    pub wall_shear_stress: f64,
+    pub plate_displacement: f64,
 }
 
 impl Outputs {
@@ -104,6 +129,10 @@ impl Outputs {
         time_step,
         particle_count,
         void_fraction,
+        centreline_velocity,
+        flow_rate,
+        wall_shear_stress,
+        plate_displacement,
     );
 
     /// Value of an output by name.
@@ -137,7 +166,7 @@ impl Outputs {
         let mut volume = 0.0;
         let mut ke = 0.0;
         for i in 0..n {
-            let (s, d) = match &st.plate {
+            let (s, d) = match st.plate() {
                 Some(p) => (p.s(&fl.x[i]), p.d(&fl.x[i])),
                 None => (fl.x[i].x, fl.x[i].y),
             };
@@ -149,7 +178,7 @@ impl Outputs {
             ke += 0.5 * fl.mass * fl.v[i].norm_squared();
         }
         o.drop_width = s_hi - s_lo + dx;
-        o.drop_height = match st.plate {
+        o.drop_height = match st.plate() {
             Some(_) => d_hi + 0.5 * dx,
             None => d_hi - d_lo + dx,
         };
@@ -157,7 +186,8 @@ impl Outputs {
         o.spread_back = -(s_lo - 0.5 * dx);
         o.kinetic_energy = ke;
         o.volume_error = volume / (n as f64 * fl.mass / rho0) - 1.0;
-        if let Some(p) = &st.plate {
+        if let Some(p) = st.plate() {
+            o.plate_displacement = p.displacement;
             o.wall_force_normal = -st.wall_force.dot(&p.n);
             o.wall_force_tangential = st.wall_force.dot(&p.t);
         }
@@ -171,4 +201,41 @@ impl Outputs {
         }
         o
     }
+}
+
+/// Pressure roughness of a fluid state: the RMS over fluid particles of p_i minus its
+/// SPH-smoothed value p~_i = sum_j V_j p_j W_ij / sum_j V_j W_ij (fluid neighbours, Shepard
+/// normalised so a uniform field is smooth everywhere, the free surface included), divided by
+/// `scale` \[Pa\]. It measures the particle-to-particle pressure noise that Ren 2015 Figs. 3 and 9
+/// show and that periodic density reinitialisation removes.
+pub fn pressure_roughness<K: Kernel>(
+    fl: &Fluid,
+    eos: &Eos,
+    kernel: &K,
+    dom: &Domain,
+    scale: f64,
+) -> f64 {
+    let n = fl.len();
+    if n == 0 {
+        return 0.0;
+    }
+    let radius = kernel.radius();
+    let grid = CellGrid::build(&fl.x, radius, dom);
+    let list = NeighborList::build(&grid, &fl.x, &fl.x, radius, dom);
+    let pres: Vec<f64> = fl.rho.iter().map(|&r| eos.pressure(r)).collect();
+    let dev2: Vec<f64> = (0..n)
+        .into_par_iter()
+        .map(|i| {
+            let (mut num, mut den) = (0.0, 0.0);
+            for &j in list.of(i) {
+                let j = j as usize;
+                let w = fl.mass / fl.rho[j] * kernel.w(dom.delta(&fl.x[i], &fl.x[j]).norm());
+                num += w * pres[j];
+                den += w;
+            }
+            let d = pres[i] - num / den;
+            d * d
+        })
+        .collect();
+    (dev2.iter().sum::<f64>() / n as f64).sqrt() / scale
 }

@@ -4,23 +4,26 @@
 //! Three seed schemes (Fang 2006 WCSPH, Ren 2015 PDRI-SPH, King & Lind 2021 ISPH), the
 //! constitutive models of King & Lind's Table I plus the Cross model, a drop impacting a possibly
 //! inclined plate, and an FMI 2.0 Co-Simulation layer over the same [`simulation::Simulation`].
-//! Papers are cited by file in `../shared/papers/` and equation number.
+//! Papers are cited by authors, year and equation number (e.g. "Fang 2006 eq. (38)"); the full
+//! citations are in `docs/references.md`.
 
-pub mod bench;
+pub mod analytic;
 pub mod boundary;
+pub mod choice;
 pub mod config;
 pub mod diagnostics;
+pub mod eos;
 pub mod fmi2;
 pub mod health;
-pub mod io;
 pub mod kernel;
 pub mod neighbors;
+pub mod operators;
 pub mod particles;
 pub mod rheology;
-pub mod run;
 pub mod scene;
 pub mod scheme;
 pub mod simulation;
+pub mod state;
 
 /// 2D vector (nalgebra), the one math alias used everywhere.
 pub type Vec2 = nalgebra::Vector2<f64>;
@@ -30,3 +33,4 @@ pub type Mat2 = nalgebra::Matrix2<f64>;
 pub use config::SceneConfig;
 pub use diagnostics::{Outputs, OUTPUTS};
 pub use simulation::{SimError, Simulation};
+pub use state::State;

@@ -1,17 +1,31 @@
-//! A simulation: the state, the scheme chosen for it, and `advance_to` with adaptive sub-steps.
+//! A simulation: the state, the scene and the scheme chosen for it, its own thread pool, and
+//! `advance_to` with adaptive sub-steps.
+//!
+//! **Thread pool.** Every step runs inside a rayon pool the simulation owns (`threads`, 0 = the
+//! `RAYON_NUM_THREADS` environment variable or one thread per core). A step has about 25 parallel
+//! regions; entered from a thread outside the pool (a CLI's main thread, an FMU importer's
+//! thread) each of them is handed over to the pool and waited for, which cost 14-26 % of a
+//! profile. Inside `install` the calling thread is a pool worker and joins the work. Results do
+//! not depend on the number of threads (every sum is a gather in a fixed order).
+//!
+//! **Communication points.** Without inputs, internal steps are the scheme's own and never
+//! shortened: the outputs at a communication point are interpolated between the two internal
+//! states around it (dense output), so they agree to round-off for any communication step. Once an
+//! input has changed, the steps land exactly on every communication point instead (the last one
+//! shortened), so that an input set at a communication point acts from exactly that time; if the
+//! solver had already stepped past it, it goes back to the state before that step first.
 
-use crate::config::{ConfigError, Scene, SceneConfig, SchemeKind};
-use crate::diagnostics::Outputs;
+use crate::config::{ConfigError, SceneConfig, ViscousOperator};
+use crate::diagnostics::{pressure_roughness, Outputs};
 use crate::kernel::CubicSpline;
-use crate::particles::Fluid;
-use crate::rheology::{AnyRheology, Rheology};
+use crate::rheology::AnyRheology;
 use crate::scene::elliptical_drop::{self, SemiAxes};
-use crate::scheme::common::{pressure_roughness, Params};
-use crate::scheme::pdri::Pdri;
-use crate::scheme::wcsph::Wcsph;
+use crate::scene::Scene;
+use crate::scheme::params::Params;
 use crate::scheme::Scheme;
+use crate::state::{Inputs, State};
 use crate::{dispatch_rheology, Vec2};
-use serde::{Deserialize, Serialize};
+use std::sync::Arc;
 use thiserror::Error;
 
 /// Why a simulation could not be built or could not go on.
@@ -27,116 +41,101 @@ pub enum SimError {
     State(String),
 }
 
-/// Everything that evolves: serialisable, holds no pointers, so a saved state restores in another
-/// process (FMI get/set/serialize FMU state).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct State {
-    pub time: f64,
-    pub step: u64,
-    pub fluid: Fluid,
-    pub plate: Option<crate::boundary::plate::Plate>,
-    /// Force of the fluid on the plate at the last step's corrector stage [N/m], global frame.
-    pub wall_force: Vec2,
-    /// Time integral of that force since t = 0 [N s/m], global frame.
-    pub wall_impulse: Vec2,
-    /// Stable time step at the last step [s] (the step actually taken may be shorter, to land
-    /// on a communication point).
-    pub last_dt: f64,
-    /// Void fraction after the last step (see [`crate::health`]).
-    pub void_fraction: f64,
-    /// How many times a fluid particle was put back above the plate by the impenetrability
-    /// condition of Fang's walls (see [`crate::scheme::wcsph`]).
-    pub wall_reflections: u64,
+/// What a saved state holds besides the configuration (see [`Simulation::save_state`]).
+#[derive(serde::Serialize, serde::Deserialize)]
+struct Saved {
+    state: State,
+    t_comm: f64,
+    prev: Option<(f64, Outputs)>,
+    exact: bool,
+    rewind: Option<State>,
 }
 
 /// A running simulation.
 pub struct Simulation {
     cfg: SceneConfig,
     /// The configuration the solver runs: the scene's own physics over `cfg`'s numerics
-    /// ([`crate::scene::effective_config`]); equal to `cfg` for the drop.
+    /// ([`Scene::effective_config`]); equal to `cfg` for the drop.
     eff: SceneConfig,
+    scene: &'static dyn Scene,
     state: State,
     scheme: Box<dyn Scheme>,
     elastic: bool,
-    /// The communication time: where the caller asked to be. The solver's own state
-    /// (`state.time`) is at or just past it, because internal steps are never shortened.
+    pool: Arc<rayon::ThreadPool>,
+    /// The communication time: where the caller asked to be. In dense-output mode the solver's
+    /// own state (`state.time`) is at or just past it.
     t_comm: f64,
     /// Time and outputs of the internal state before the last step, for interpolating the
     /// outputs at `t_comm` (None before the first step).
     prev: Option<(f64, Outputs)>,
+    /// Whether steps land exactly on communication points (once an input has changed).
+    exact: bool,
+    /// In dense-output mode, the state before the last internal step (at or before `t_comm`),
+    /// to go back to when an input changes at `t_comm`.
+    rewind: Option<State>,
 }
 
-/// Build the scheme for an (effective) configuration, resolving scheme, kernel and rheology once
-/// into a concrete type.
-fn build_scheme(
-    cfg: &SceneConfig,
-    plate: Option<crate::boundary::plate::Plate>,
-) -> Result<(Box<dyn Scheme>, bool), SimError> {
-    let model = AnyRheology::from_config(cfg)?;
-    let kernel = CubicSpline::new(cfg.h());
-    let params = Params::from_config(cfg);
-    let kind = cfg.scheme;
-    if kind == SchemeKind::Isph {
-        return Err(SimError::Config(ConfigError::Inconsistent(
-            "scheme 'isph' is not implemented yet".into(),
-        )));
-    }
-    Ok(dispatch_rheology!(model, m => {
-        let elastic = elastic_of(&m);
-        let scheme: Box<dyn Scheme> = if kind == SchemeKind::Pdri {
-            Box::new(Pdri::new(kernel, m, params, plate))
-        } else {
-            Box::new(Wcsph::new(kernel, m, params, plate))
-        };
-        (scheme, elastic)
-    }))
+/// The scheme's constants for an effective configuration of `scene`.
+fn params(scene: &dyn Scene, eff: &SceneConfig) -> Params {
+    let mut p = Params::from_config(eff);
+    p.domain_radius = scene.domain_radius(eff);
+    p.domain = scene.domain(eff);
+    p.gravity = scene.body_force(eff);
+    p.viscous_laplacian = match eff.viscous_operator {
+        ViscousOperator::Auto => scene.viscous_laplacian(),
+        op => op == ViscousOperator::Laplacian,
+    };
+    p
 }
 
-fn elastic_of<R: Rheology>(_: &R) -> bool {
-    R::ELASTIC
+fn thread_pool(cfg: &SceneConfig) -> Result<Arc<rayon::ThreadPool>, SimError> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(cfg.threads as usize)
+        .thread_name(|i| format!("viscosph-{i}"))
+        .build()
+        .map(Arc::new)
+        .map_err(|e| SimError::Request(format!("cannot start {} threads: {e}", cfg.threads)))
 }
 
 impl Simulation {
+    /// Check a configuration: the parameter table's rules and the scene's own.
+    pub fn validate(cfg: &SceneConfig) -> Result<(), SimError> {
+        cfg.validate()?;
+        let scene = crate::scene::for_config(cfg)?;
+        scene.validate(&scene.effective_config(cfg))?;
+        Ok(())
+    }
+
     /// Validate the configuration and build the initial state.
     pub fn new(cfg: SceneConfig) -> Result<Self, SimError> {
-        cfg.validate()?;
-        let eff = crate::scene::effective_config(&cfg);
-        let (_, elastic) = build_scheme(&eff, None)?;
-        let (fluid, plate) = match cfg.scene {
-            Scene::Drop => {
-                let rest = dispatch_rheology!(AnyRheology::from_config(&eff)?, m => {
-                    elastic_of(&m).then(|| m.rest_conformation())
-                });
-                let (f, p) = crate::scene::drop::build(&eff, rest);
-                (f, Some(p))
-            }
-            Scene::EllipticalDrop => (elliptical_drop::build(&eff), None),
-            other => {
-                return Err(SimError::Config(ConfigError::Inconsistent(format!(
-                    "scene '{other}' is not implemented yet"
-                ))))
-            }
-        };
-        let (scheme, _) = build_scheme(&eff, plate.clone())?;
-        let state = State {
-            time: 0.0,
-            step: 0,
-            fluid,
-            plate,
-            wall_force: Vec2::zeros(),
-            wall_impulse: Vec2::zeros(),
-            last_dt: 0.0,
-            void_fraction: 0.0,
-            wall_reflections: 0,
-        };
+        let pool = thread_pool(&cfg)?;
+        Self::with_pool(cfg, pool)
+    }
+
+    fn with_pool(cfg: SceneConfig, pool: Arc<rayon::ThreadPool>) -> Result<Self, SimError> {
+        Self::validate(&cfg)?;
+        let scene = crate::scene::for_config(&cfg)?;
+        let eff = scene.effective_config(&cfg);
+        let rest = dispatch_rheology!(AnyRheology::from_config(&eff)?, m => {
+            use crate::rheology::Rheology;
+            fn elastic<R: Rheology>(_: &R) -> bool { R::ELASTIC }
+            elastic(&m).then(|| m.rest_conformation())
+        });
+        let (fluid, walls) = scene.build(&eff, rest);
+        let state = State::new(fluid, walls);
+        let (scheme, elastic) = crate::scheme::build(&eff, params(scene, &eff), &state.walls)?;
         Ok(Self {
             cfg,
             eff,
+            scene,
             state,
             scheme,
             elastic,
+            pool,
             t_comm: 0.0,
             prev: None,
+            exact: false,
+            rewind: None,
         })
     }
 
@@ -149,12 +148,16 @@ impl Simulation {
     pub fn effective_config(&self) -> &SceneConfig {
         &self.eff
     }
+    /// The scene being simulated.
+    pub fn scene(&self) -> &'static dyn Scene {
+        self.scene
+    }
     pub fn state(&self) -> &State {
         &self.state
     }
     /// The communication time: the `t_end` of the last successful [`Simulation::advance_to`]
-    /// (or, after a breakdown, the time of the last good state). The particles themselves are at
-    /// `state().time`, which may be up to one internal step later.
+    /// (or, after a breakdown, the time of the last good state). In dense-output mode the
+    /// particles themselves are at `state().time`, which may be up to one internal step later.
     pub fn time(&self) -> f64 {
         self.t_comm
     }
@@ -162,9 +165,51 @@ impl Simulation {
     pub fn is_elastic(&self) -> bool {
         self.elastic
     }
+    /// Number of threads of the simulation's own pool.
+    pub fn threads(&self) -> usize {
+        self.pool.current_num_threads()
+    }
+    /// The inputs in force.
+    pub fn inputs(&self) -> Inputs {
+        self.state.inputs
+    }
 
-    /// Advance to exactly `t_end` with the scheme's adaptive steps; the last one is shortened to
-    /// land on `t_end`. On a breakdown the state is left at the last good step... and the error
+    /// Set the inputs from the communication time on. A change switches to exact landing on
+    /// communication points (see the module documentation).
+    pub fn set_inputs(&mut self, inputs: Inputs) -> Result<(), SimError> {
+        if !inputs.plate_velocity.is_finite() {
+            return Err(SimError::Request(format!(
+                "plate_velocity = {} is not a finite number",
+                inputs.plate_velocity
+            )));
+        }
+        if inputs == self.state.inputs {
+            return Ok(());
+        }
+        if inputs.plate_velocity != 0.0 && self.state.walls.is_empty() {
+            return Err(SimError::Request(
+                "plate_velocity: this scene has no plate to move".into(),
+            ));
+        }
+        if !self.exact && self.state.time > self.t_comm {
+            // The last internal step went past t_comm with the old inputs: go back to the state
+            // before it and land exactly on t_comm.
+            if let Some(before) = self.rewind.take() {
+                self.state = before;
+            }
+            self.exact = true;
+            let t = self.t_comm;
+            self.advance_to(t)?;
+        }
+        self.exact = true;
+        self.state.inputs = inputs;
+        for wall in self.state.walls.iter_mut().take(1) {
+            wall.velocity = inputs.plate_velocity;
+        }
+        Ok(())
+    }
+
+    /// Advance to `t_end`. On a breakdown the state is left at the last good step and the error
     /// names the time, the step and the cause.
     pub fn advance_to(&mut self, t_end: f64) -> Result<(), SimError> {
         if !t_end.is_finite() || t_end < self.t_comm {
@@ -173,17 +218,36 @@ impl Simulation {
                 self.t_comm
             )));
         }
-        // Internal steps are the scheme's own, never shortened to land on t_end: the trajectory
-        // is then the same whatever the communication steps, and outputs at a communication point
-        // are interpolated between the two internal states around it (dense output). So the
-        // outputs at a given time agree to round-off for any communication step size.
+        let pool = Arc::clone(&self.pool);
+        pool.install(|| self.advance_in_pool(t_end))
+    }
+
+    fn advance_in_pool(&mut self, t_end: f64) -> Result<(), SimError> {
         let mut last_before: Option<State> = None;
         while self.state.time < t_end {
             let before = self.state.clone();
-            match self.scheme.step(&mut self.state, f64::INFINITY) {
+            let max_dt = if self.exact {
+                t_end - self.state.time
+            } else {
+                f64::INFINITY
+            };
+            self.scene.before_step(&self.eff, &mut self.state);
+            match self.scheme.step(&mut self.state, max_dt) {
                 Ok(dt) => {
                     self.state.step += 1;
-                    self.state.time += dt;
+                    self.state.time = if dt >= max_dt {
+                        t_end
+                    } else {
+                        self.state.time + dt
+                    };
+                    for wall in &mut self.state.walls {
+                        // A rigid motion along -n at the input's velocity, constant over the step.
+                        let ds = wall.velocity * dt;
+                        if ds != 0.0 {
+                            wall.displacement += ds;
+                            wall.origin -= wall.n * ds;
+                        }
+                    }
                     last_before = Some(before);
                 }
                 Err(cause) => {
@@ -195,15 +259,14 @@ impl Simulation {
                     self.state = before;
                     self.t_comm = self.t_comm.max(self.state.time);
                     self.prev = None;
+                    self.rewind = None;
                     return Err(err);
                 }
             }
         }
         if let Some(b) = last_before {
-            self.prev = Some((
-                b.time,
-                Outputs::compute(&b, self.eff.dx(), self.eff.density),
-            ));
+            self.prev = Some((b.time, self.scene.outputs(&b, &self.eff)));
+            self.rewind = (!self.exact).then_some(b);
         }
         self.t_comm = t_end;
         Ok(())
@@ -223,11 +286,10 @@ impl Simulation {
         (out, None)
     }
 
-    /// The outputs at the current time.
     /// The outputs at the communication time: linear interpolation between the internal states
     /// just before and at or after it (`time_step` and `particle_count` are the current ones).
     pub fn outputs(&self) -> Outputs {
-        let now = Outputs::compute(&self.state, self.eff.dx(), self.eff.density);
+        let now = self.scene.outputs(&self.state, &self.eff);
         match self.prev {
             Some((tp, before)) if self.state.time > self.t_comm && tp <= self.t_comm => {
                 let w = (self.t_comm - tp) / (self.state.time - tp);
@@ -245,22 +307,20 @@ impl Simulation {
     /// For the elliptical drop, the semi-axes of the fluid now against the exact ones (relative
     /// error of the semi-major axis, product of the semi-axes); `None` for other scenes.
     pub fn elliptical_semi_axes(&self) -> Option<SemiAxes> {
-        (self.cfg.scene == Scene::EllipticalDrop)
+        (self.cfg.scene == crate::config::Scene::EllipticalDrop)
             .then(|| elliptical_drop::semi_axes(&self.state.fluid, self.state.time))
     }
 
     /// Pressure roughness of the fluid now: RMS of p_i minus its SPH-smoothed value, over the
-    /// dynamic pressure rho0 U^2 of the scene (see
-    /// [`pressure_roughness`] and
-    /// [`crate::scene::velocity_scale`]).
+    /// dynamic pressure rho0 U^2 of the scene (see [`pressure_roughness`] and
+    /// [`Scene::velocity_scale`]).
     pub fn pressure_roughness(&self) -> f64 {
-        let u = crate::scene::velocity_scale(&self.eff);
-        pressure_roughness(
-            &self.state.fluid,
-            &Params::from_config(&self.eff),
-            &CubicSpline::new(self.eff.h()),
-            self.eff.density * u * u,
-        )
+        let u = self.scene.velocity_scale(&self.eff);
+        let p = params(self.scene, &self.eff);
+        let (fluid, kernel) = (&self.state.fluid, CubicSpline::new(self.eff.h()));
+        let scale = self.eff.density * u * u;
+        self.pool
+            .install(|| pressure_roughness(fluid, &p.eos, &kernel, &p.domain, scale))
     }
 
     /// Total momentum of the fluid [kg m/s per m depth].
@@ -276,37 +336,47 @@ impl Simulation {
 
     /// Positions of the wall particles currently built.
     pub fn wall_positions(&self) -> Vec<Vec2> {
-        self.scheme.wall_positions()
+        self.scheme.wall_positions(&self.state)
     }
 
     /// The state as bytes (bincode): configuration and state, no pointers.
     pub fn save_state(&self) -> Vec<u8> {
-        bincode::serialize(&(&self.cfg, &self.state, self.t_comm, &self.prev))
-            .expect("state serialises")
+        let saved = Saved {
+            state: self.state.clone(),
+            t_comm: self.t_comm,
+            prev: self.prev,
+            exact: self.exact,
+            rewind: self.rewind.clone(),
+        };
+        bincode::serialize(&(&self.cfg, &saved)).expect("state serialises")
     }
 
-    /// Restore a state saved by [`Simulation::save_state`], possibly in another process.
+    /// Restore a state saved by [`Simulation::save_state`], possibly in another process. The
+    /// thread pool is kept unless the saved configuration asks for another size.
     pub fn restore_state(&mut self, bytes: &[u8]) -> Result<(), SimError> {
-        let (cfg, state, t_comm, prev): (SceneConfig, State, f64, Option<(f64, Outputs)>) =
+        let (cfg, saved): (SceneConfig, Saved) =
             bincode::deserialize(bytes).map_err(|e| SimError::State(e.to_string()))?;
-        cfg.validate()?;
-        let eff = crate::scene::effective_config(&cfg);
-        let (scheme, elastic) = build_scheme(&eff, state.plate.clone())?;
-        *self = Self {
-            cfg,
-            eff,
-            state,
-            scheme,
-            elastic,
-            t_comm,
-            prev,
+        let pool = if cfg.threads == self.cfg.threads {
+            Arc::clone(&self.pool)
+        } else {
+            thread_pool(&cfg)?
         };
+        let mut sim = Self::with_pool(cfg, pool)?;
+        let (scheme, _) =
+            crate::scheme::build(&sim.eff, params(sim.scene, &sim.eff), &saved.state.walls)?;
+        sim.scheme = scheme;
+        sim.state = saved.state;
+        sim.t_comm = saved.t_comm;
+        sim.prev = saved.prev;
+        sim.exact = saved.exact;
+        sim.rewind = saved.rewind;
+        *self = sim;
         Ok(())
     }
 
-    /// Back to the initial state of the same configuration.
+    /// Back to the initial state of the same configuration (same thread pool).
     pub fn reset(&mut self) -> Result<(), SimError> {
-        *self = Simulation::new(self.cfg.clone())?;
+        *self = Self::with_pool(self.cfg.clone(), Arc::clone(&self.pool))?;
         Ok(())
     }
 }

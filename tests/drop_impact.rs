@@ -133,7 +133,7 @@ fn momentum_balance_on_an_inclined_plate() {
     let mut sim = Simulation::new(c.clone()).unwrap();
     let p0 = sim.fluid_momentum();
     let mass = sim.fluid_mass();
-    let plate = sim.state().plate.clone().unwrap();
+    let plate = sim.state().plate().cloned().unwrap();
     let mut prev = sim.outputs();
     let (mut int_n, mut int_t) = (0.0, 0.0);
     let n = (6.0 * T_STAR / dt).round() as usize;
@@ -231,21 +231,19 @@ fn inclined_plate_spreads_downhill() {
 #[test]
 fn outputs_are_bitwise_identical_on_one_and_two_threads() {
     let c = cfg(&[("plate_inclination", r(20.0))]);
-    let run = |threads| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-            .install(|| {
-                let (ser, err, sim) = series(&c, 2.5 * T_STAR, 0.25 * T_STAR);
-                assert!(err.is_none());
-                let bits: Vec<u64> = ser
-                    .iter()
-                    .flat_map(|(t, o)| std::iter::once(*t).chain(o.values()))
-                    .map(f64::to_bits)
-                    .collect();
-                (bits, sim.save_state())
-            })
+    // Each simulation runs in its own pool of `threads` workers.
+    let run = |threads: i64| {
+        let mut c = c.clone();
+        c.threads = threads;
+        let (ser, err, sim) = series(&c, 2.5 * T_STAR, 0.25 * T_STAR);
+        assert!(err.is_none());
+        assert_eq!(sim.threads(), threads as usize);
+        let bits: Vec<u64> = ser
+            .iter()
+            .flat_map(|(t, o)| std::iter::once(*t).chain(o.values()))
+            .map(f64::to_bits)
+            .collect();
+        (bits, sim.state().clone())
     };
     assert_eq!(run(1), run(2));
 }

@@ -150,19 +150,20 @@ fn reinitialisation_smooths_the_pressure_on_a_level_plate() {
 fn pdri_is_bitwise_identical_on_one_and_two_threads() {
     // Through the impact and several reinitialisations, every output and the saved state.
     let c = ren(&[("plate_inclination", r(30.0))]);
-    let on = |threads| {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads);
-        pool.build().unwrap().install(|| {
-            let (ser, err, sim) = series(&c, 2.5 * T_STAR, 0.25 * T_STAR);
-            assert!(err.is_none());
-            let values = ser
-                .iter()
-                .flat_map(|(t, o)| std::iter::once(*t).chain(o.values()));
-            (
-                values.map(f64::to_bits).collect::<Vec<_>>(),
-                sim.save_state(),
-            )
-        })
+    // Each simulation runs in its own pool of `threads` workers.
+    let on = |threads: i64| {
+        let mut c = c.clone();
+        c.threads = threads;
+        let (ser, err, sim) = series(&c, 2.5 * T_STAR, 0.25 * T_STAR);
+        assert!(err.is_none());
+        assert_eq!(sim.threads(), threads as usize);
+        let values = ser
+            .iter()
+            .flat_map(|(t, o)| std::iter::once(*t).chain(o.values()));
+        (
+            values.map(f64::to_bits).collect::<Vec<_>>(),
+            sim.state().clone(),
+        )
     };
     assert_eq!(on(1), on(2));
 }

@@ -68,9 +68,12 @@ pub fn index_html(platforms: &[&str]) -> String {
     );
     h.push_str(&format!(
         "<p>Default experiment: 0 to {DEFAULT_STOP_TIME} s, communication step \
-         {DEFAULT_STEP_SIZE} s. The scheme picks its own adaptive sub-steps and lands exactly \
-         on every communication point, so the step size of the importer only sets how often the \
-         outputs are sampled.</p>\n"
+         {DEFAULT_STEP_SIZE} s. The scheme picks its own adaptive sub-steps and does not \
+         shorten them to land on communication points: it steps past each one and the outputs \
+         there are interpolated linearly between the two internal states around it. So the \
+         trajectory, and the outputs to round-off, do not depend on the importer's step size, \
+         which only sets how often the outputs are sampled (the time_step output is the \
+         solver's own step).</p>\n"
     ));
 
     h.push_str("<h2>Worked example (fmpy)</h2>\n<pre>");

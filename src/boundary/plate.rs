@@ -1,25 +1,29 @@
-//! A straight rigid plate of any inclination, with Fang 2006's boundary and image particles
-//! (section 3.3, eqs. 46-48), laid out in the plate's own frame.
+//! A straight rigid plate of any inclination: its frame, its motion and the range of columns of
+//! virtual particles built along it so far. What the virtual particles carry is the business of
+//! a wall model ([`super::ghost`] for Fang's and Ren's walls).
 //!
-//! Frame: the plate passes through the impact point (the origin), its downhill unit tangent is
-//! t = (cos a, -sin a) and its unit normal into the fluid n = (sin a, cos a). A point is
-//! x = s t + d n. Virtual particles come in columns at s_k = k dx: one boundary particle on the
-//! plate (d = 0) and three image particles at d = -dx, -2dx, -3dx; each column also has an interior
-//! point P at d = +dx from which its image values are extrapolated (eqs. 47-48).
-//! Columns are created only where fluid comes near (the plate is as long as it needs to be and a
-//! scene never pays for wall it does not wet); the range only grows, so it is deterministic.
+//! Frame: the plate passes through its origin (the impact point for a drop), its downhill unit
+//! tangent is t = (cos a, -sin a) and its unit normal into the fluid n = (sin a, cos a). A point
+//! is x = origin + s t + d n. Virtual particles come in columns at s_k = k dx, each with an
+//! interior point at d = +dx inside the fluid. Columns are created only where fluid comes near
+//! (the plate is as long as it needs to be and a scene never pays for wall it does not wet); the
+//! range only grows, so it is deterministic.
+//!
+//! The plate moves rigidly along its normal with `velocity` (positive away from the fluid, i.e.
+//! along -n); `displacement` is how far it has moved so far.
 
 use crate::Vec2;
 use serde::{Deserialize, Serialize};
 
-/// Number of image rows below the plate (Fang: three, covering the 2h = 3 dx support).
-pub const IMAGE_ROWS: usize = 3;
-/// Virtual particles per column: the boundary particle then the image rows.
-pub const PER_COLUMN: usize = 1 + IMAGE_ROWS;
-
 /// The plate and the range of columns built so far.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Plate {
+    /// A point of the plate line: s = d = 0 there [m].
+    pub origin: Vec2,
+    /// Velocity of the plate along its normal, positive away from the fluid (along -n) [m/s].
+    pub velocity: f64,
+    /// Distance the plate has moved along -n since t = 0 [m].
+    pub displacement: f64,
     /// Downhill unit tangent.
     pub t: Vec2,
     /// Unit normal into the fluid.
@@ -29,36 +33,60 @@ pub struct Plate {
     /// First and last column index (inclusive); `k_min > k_max` means no column yet.
     pub k_min: i64,
     pub k_max: i64,
+    /// Whether the column range is fixed (a periodic channel's wall spans exactly one period)
+    /// instead of growing to follow the fluid.
+    #[serde(default)]
+    pub fixed: bool,
 }
 
 impl Plate {
     pub fn new(inclination_deg: f64, dx: f64) -> Self {
         let a = inclination_deg.to_radians();
         Self {
+            origin: Vec2::zeros(),
+            velocity: 0.0,
+            displacement: 0.0,
             t: Vec2::new(a.cos(), -a.sin()),
             n: Vec2::new(a.sin(), a.cos()),
             dx,
             k_min: 0,
             k_max: -1,
+            fixed: false,
+        }
+    }
+
+    /// A plate through `origin` with downhill tangent `t` (a unit vector; the normal into the
+    /// fluid is t turned a quarter turn anticlockwise) and the fixed columns `k_min..=k_max`.
+    pub fn spanning(origin: Vec2, t: Vec2, dx: f64, k_min: i64, k_max: i64) -> Self {
+        Self {
+            origin,
+            velocity: 0.0,
+            displacement: 0.0,
+            t,
+            n: Vec2::new(-t.y, t.x),
+            dx,
+            k_min,
+            k_max,
+            fixed: true,
         }
     }
 
     /// Along-plate coordinate s (positive downhill) of a point.
     #[inline]
     pub fn s(&self, x: &Vec2) -> f64 {
-        x.dot(&self.t)
+        (x - self.origin).dot(&self.t)
     }
 
     /// Distance of a point from the plate, positive on the fluid side.
     #[inline]
     pub fn d(&self, x: &Vec2) -> f64 {
-        x.dot(&self.n)
+        (x - self.origin).dot(&self.n)
     }
 
     /// Global position of plate coordinates (s, d).
     #[inline]
     pub fn point(&self, s: f64, d: f64) -> Vec2 {
-        self.t * s + self.n * d
+        self.origin + (self.t * s + self.n * d)
     }
 
     pub fn columns(&self) -> usize {
@@ -71,6 +99,9 @@ impl Plate {
 
     /// Grow the column range so that it covers [s_lo, s_hi]. Returns whether it changed.
     pub fn cover(&mut self, s_lo: f64, s_hi: f64) -> bool {
+        if self.fixed {
+            return false;
+        }
         let lo = (s_lo / self.dx).floor() as i64;
         let hi = (s_hi / self.dx).ceil() as i64;
         if self.columns() == 0 {
@@ -91,19 +122,26 @@ impl Plate {
         (self.k_min + c as i64) as f64 * self.dx
     }
 
-    /// Positions of all virtual particles, column by column: boundary particle, then image rows.
-    pub fn virtual_positions(&self) -> Vec<Vec2> {
-        let mut out = Vec::with_capacity(self.columns() * PER_COLUMN);
+    /// Velocity of the plate's material points (a rigid motion along the normal) [m/s].
+    #[inline]
+    pub fn wall_velocity(&self) -> Vec2 {
+        -self.n * self.velocity
+    }
+
+    /// Positions of `rows` rows of virtual particles, column by column, from the plate line
+    /// (d = 0) down to d = -(rows - 1) dx.
+    pub fn virtual_positions(&self, rows: usize) -> Vec<Vec2> {
+        let mut out = Vec::with_capacity(self.columns() * rows);
         for c in 0..self.columns() {
             let s = self.column_s(c);
-            for row in 0..PER_COLUMN {
+            for row in 0..rows {
                 out.push(self.point(s, -(row as f64) * self.dx));
             }
         }
         out
     }
 
-    /// Position of the interior point P of column c (at d = +dx).
+    /// Position of the interior point of column c (at d = +dx).
     #[inline]
     pub fn interior_point(&self, c: usize) -> Vec2 {
         self.point(self.column_s(c), self.dx)
@@ -132,6 +170,6 @@ mod tests {
         assert!(!p.cover(-0.1, 0.1));
         assert!(p.cover(0.0, 0.55));
         assert_eq!((p.k_min, p.k_max), (-3, 6));
-        assert_eq!(p.virtual_positions().len(), 10 * PER_COLUMN);
+        assert_eq!(p.virtual_positions(4).len(), 40);
     }
 }

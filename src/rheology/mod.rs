@@ -118,8 +118,19 @@ pub use oldroyd_b::OldroydB;
 pub use ptt_exponential::PttExponential;
 pub use ptt_linear::PttLinear;
 
-use crate::config::{ConformationMethod, RheologyKind, SceneConfig};
 use crate::Mat2;
+
+pub const CONFORMATION_METHODS: &[(&str, &str)] = &[
+    (
+        "direct",
+        "direct upper-convected update of the conformation tensor",
+    ),
+    ("log", "log-conformation (King & Lind eqs. 12-19, 29-33)"),
+];
+
+crate::choice_enum!(
+    /// How the conformation tensor is advanced in time.
+    ConformationMethod, CONFORMATION_METHODS, Direct = "direct", Log = "log");
 
 /// Viscosities and relaxation time shared by every polymer model (King & Lind eqs. 3-9):
 /// solvent eta_s = beta eta0, polymer eta_p = (1 - beta) eta0, relaxation time lambda.
@@ -241,22 +252,6 @@ pub fn advance<R: Rheology>(
     }
 }
 
-/// Whether a rheology can be built. Every model of the seeds is; the match is exhaustive so a
-/// new [`RheologyKind`] has to be considered here.
-pub fn is_implemented(kind: RheologyKind) -> bool {
-    match kind {
-        RheologyKind::Newtonian
-        | RheologyKind::OldroydB
-        | RheologyKind::Ucm
-        | RheologyKind::FeneP
-        | RheologyKind::FeneCr
-        | RheologyKind::PttLinear
-        | RheologyKind::PttExponential
-        | RheologyKind::Giesekus
-        | RheologyKind::Cross => true,
-    }
-}
-
 /// Every model, resolved once from the configuration. Schemes are instantiated per variant
 /// through [`dispatch_rheology!`], so hot loops see a concrete type. UCM has no variant of its
 /// own: it is Oldroyd-B with beta = 0 (King & Lind section II), same f_S and f_R.
@@ -270,46 +265,6 @@ pub enum AnyRheology {
     PttExponential(PttExponential),
     Giesekus(Giesekus),
     Cross(Cross),
-}
-
-impl AnyRheology {
-    /// Build the configured model from `viscosity` (eta0, total zero-shear), `viscosity_ratio`
-    /// (beta = eta_s/eta0), `relaxation_time` (lambda) and the model's own parameter. UCM is
-    /// Oldroyd-B with beta = 0 whatever `viscosity_ratio` says; Newtonian and Cross ignore
-    /// beta and lambda (the whole viscosity is the solvent's). Parameter ranges were checked by
-    /// the parameter table (`config::PARAMS`).
-    pub fn from_config(cfg: &SceneConfig) -> Result<Self, crate::config::ConfigError> {
-        let eta0 = cfg.viscosity;
-        let beta = cfg.viscosity_ratio;
-        let lambda = cfg.relaxation_time;
-        Ok(match cfg.rheology {
-            RheologyKind::Newtonian => AnyRheology::Newtonian(Newtonian::new(eta0)),
-            RheologyKind::OldroydB => AnyRheology::OldroydB(OldroydB::new(eta0, beta, lambda)),
-            RheologyKind::Ucm => AnyRheology::OldroydB(OldroydB::new(eta0, 0.0, lambda)),
-            RheologyKind::FeneP => AnyRheology::FeneP(FeneP::new(eta0, beta, lambda, cfg.fene_L2)),
-            RheologyKind::FeneCr => {
-                AnyRheology::FeneCr(FeneCr::new(eta0, beta, lambda, cfg.fene_L2))
-            }
-            RheologyKind::PttLinear => {
-                AnyRheology::PttLinear(PttLinear::new(eta0, beta, lambda, cfg.ptt_epsilon))
-            }
-            RheologyKind::PttExponential => AnyRheology::PttExponential(PttExponential::new(
-                eta0,
-                beta,
-                lambda,
-                cfg.ptt_epsilon,
-            )),
-            RheologyKind::Giesekus => {
-                AnyRheology::Giesekus(Giesekus::new(eta0, beta, lambda, cfg.giesekus_alpha))
-            }
-            RheologyKind::Cross => AnyRheology::Cross(Cross::new(
-                eta0,
-                cfg.cross_viscosity_inf,
-                cfg.cross_K,
-                cfg.cross_m,
-            )),
-        })
-    }
 }
 
 /// Run `$body` with `$m` bound to the concrete model inside an [`AnyRheology`].

@@ -20,8 +20,8 @@
 //! material point at the tip stays at the tip).
 
 use crate::config::{ArtificialStressKind, RheologyKind, SceneConfig};
+use crate::eos::Eos;
 use crate::particles::Fluid;
-use crate::scheme::common::Params;
 use crate::Vec2;
 
 /// Radius of the initial circle \[m\].
@@ -75,7 +75,7 @@ pub fn effective_config(cfg: &SceneConfig) -> SceneConfig {
 /// rho0 A0^2 (R^2 - r^2) / 2 through the configured equation of state. Masses are rho0 dx^2.
 pub fn build(cfg: &SceneConfig) -> Fluid {
     let dx = cfg.dx();
-    let params = Params::from_config(cfg);
+    let eos = Eos::from_config(cfg);
     let n = (RADIUS / dx).round() as i64 + 1;
     let r2max = (RADIUS / dx).powi(2) * (1.0 + 1e-12);
     let mut fluid = Fluid {
@@ -89,7 +89,7 @@ pub fn build(cfg: &SceneConfig) -> Fluid {
                 let p = 0.5 * cfg.density * A0 * A0 * (RADIUS * RADIUS - x.norm_squared());
                 fluid.x.push(x);
                 fluid.v.push(Vec2::new(-A0 * x.x, A0 * x.y));
-                fluid.rho.push(params.density_for_pressure(p));
+                fluid.rho.push(eos.density_for_pressure(p));
             }
         }
     }
@@ -198,6 +198,31 @@ pub fn semi_axes(fluid: &Fluid, t: f64) -> SemiAxes {
     }
 }
 
+/// Monaghan's elliptical drop as a scene (see the module documentation).
+pub struct EllipticalDrop;
+
+impl super::Scene for EllipticalDrop {
+    fn effective_config(&self, cfg: &SceneConfig) -> SceneConfig {
+        effective_config(cfg)
+    }
+
+    fn build(
+        &self,
+        cfg: &SceneConfig,
+        _rest: Option<crate::Mat2>,
+    ) -> (Fluid, Vec<crate::boundary::plate::Plate>) {
+        (build(cfg), Vec::new())
+    }
+
+    fn velocity_scale(&self, _cfg: &SceneConfig) -> f64 {
+        VELOCITY_SCALE
+    }
+
+    fn time_scale(&self, _cfg: &SceneConfig) -> f64 {
+        TIME_SCALE
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -215,7 +240,7 @@ mod tests {
         assert!((s.minor - 1.0).abs() < 1e-12 && (s.major - 1.0).abs() < 1e-12);
         // Centre pressure rho0 A0^2 R^2 / 2 = 5e6 Pa through the linear equation of state.
         let centre = f.x.iter().position(|x| x.norm() < 1e-12).unwrap();
-        let p = Params::from_config(&e).pressure(f.rho[centre]);
+        let p = Eos::from_config(&e).pressure(f.rho[centre]);
         assert!((p - 5.0e6).abs() < 1e-6 * 5.0e6, "{p}");
     }
 }

@@ -1,32 +1,100 @@
-//! Scenes: the initial state of a flow and what to measure in it.
+//! Scenes: the initial state of a flow, its walls, what happens at every step (inflow, for the
+//! jet) and what is measured in it. A scene is a [`Scene`]; [`for_config`] is the one place that
+//! maps the `scene` parameter to it, so a new scene is a new file and one line there.
 
+pub mod channel;
 pub mod drop;
 pub mod elliptical_drop;
 
-use crate::config::{Scene, SceneConfig};
+use crate::boundary::plate::Plate;
+use crate::config::{self, ConfigError, SceneConfig};
+use crate::diagnostics::Outputs;
+use crate::neighbors::Domain;
+use crate::particles::Fluid;
+use crate::state::State;
+use crate::{Mat2, Vec2};
 
-/// The configuration the solver runs for a scene: the scene's own physics over the user's
-/// numerics. The drop takes the configuration as it is; the elliptical drop defines its own
-/// (see [`elliptical_drop::effective_config`]).
-pub fn effective_config(cfg: &SceneConfig) -> SceneConfig {
-    match cfg.scene {
-        Scene::EllipticalDrop => elliptical_drop::effective_config(cfg),
-        Scene::Drop | Scene::Jet => cfg.clone(),
+/// One kind of flow.
+pub trait Scene: Send + Sync {
+    /// Checks of the configuration that belong to this scene (beyond the parameter table's).
+    fn validate(&self, _cfg: &SceneConfig) -> Result<(), ConfigError> {
+        Ok(())
+    }
+
+    /// The configuration the solver runs: the scene's own physics over the user's numerics.
+    fn effective_config(&self, cfg: &SceneConfig) -> SceneConfig {
+        cfg.clone()
+    }
+
+    /// The initial fluid and walls for the effective configuration. `rest` is the model's
+    /// conformation at rest, or None for models without a conformation tensor.
+    fn build(&self, cfg: &SceneConfig, rest: Option<Mat2>) -> (Fluid, Vec<Plate>);
+
+    /// The domain the pairs see (open unless the scene is periodic).
+    fn domain(&self, _cfg: &SceneConfig) -> Domain {
+        Domain::OPEN
+    }
+
+    /// Body force per unit mass [m/s2]: gravity, vertically down, unless the scene drives the
+    /// flow otherwise.
+    fn body_force(&self, cfg: &SceneConfig) -> Vec2 {
+        Vec2::new(0.0, -cfg.gravity)
+    }
+
+    /// Whether the `auto` viscous operator means Morris' Laplacian (see
+    /// [`crate::operators::stress`]) rather than Fang's nested form.
+    fn viscous_laplacian(&self) -> bool {
+        false
+    }
+
+    /// Largest distance from the origin a particle may reach before the run stops [m].
+    fn domain_radius(&self, cfg: &SceneConfig) -> f64 {
+        1000.0 * cfg.drop_diameter + 10.0 * cfg.drop_height
+    }
+
+    /// Called before every step (inflow).
+    fn before_step(&self, _cfg: &SceneConfig, _st: &mut State) {}
+
+    /// Velocity scale U \[m/s\], for dimensionless measures such as the pressure roughness
+    /// (normalised by rho0 U^2).
+    fn velocity_scale(&self, cfg: &SceneConfig) -> f64;
+
+    /// Time scale \[s\] for dimensionless plots (t* = t / time scale).
+    fn time_scale(&self, cfg: &SceneConfig) -> f64;
+
+    /// The outputs of a state (see [`crate::diagnostics`]).
+    fn outputs(&self, st: &State, cfg: &SceneConfig) -> Outputs {
+        Outputs::compute(st, cfg.dx(), cfg.density)
     }
 }
 
-/// Velocity scale U of a scene \[m/s\], for dimensionless measures such as the pressure roughness
-/// (normalised by rho0 U^2): the impact velocity of a drop (sqrt(g D) if it is released at rest),
-/// A0 R for the elliptical drop.
-pub fn velocity_scale(cfg: &SceneConfig) -> f64 {
+/// The scene of a configuration, or why it cannot run.
+pub fn for_config(cfg: &SceneConfig) -> Result<&'static dyn Scene, ConfigError> {
     match cfg.scene {
-        Scene::EllipticalDrop => elliptical_drop::VELOCITY_SCALE,
-        Scene::Drop | Scene::Jet => {
-            if cfg.impact_velocity > 0.0 {
-                cfg.impact_velocity
-            } else {
-                (cfg.gravity * cfg.drop_diameter).sqrt().max(1e-12)
-            }
-        }
+        config::Scene::Drop => Ok(&drop::Drop),
+        config::Scene::EllipticalDrop => Ok(&elliptical_drop::EllipticalDrop),
+        config::Scene::Channel => Ok(&channel::Channel),
+        config::Scene::Jet => Err(ConfigError::Inconsistent(
+            "scene 'jet' is not implemented yet; use scene = 'drop' or 'elliptical_drop'".into(),
+        )),
     }
+}
+
+/// The configuration the solver runs for `cfg` (see [`Scene::effective_config`]); `cfg` itself
+/// for a scene that cannot run.
+pub fn effective_config(cfg: &SceneConfig) -> SceneConfig {
+    match for_config(cfg) {
+        Ok(s) => s.effective_config(cfg),
+        Err(_) => cfg.clone(),
+    }
+}
+
+/// Velocity scale of the scene of `cfg` (see [`Scene::velocity_scale`]).
+pub fn velocity_scale(cfg: &SceneConfig) -> f64 {
+    for_config(cfg).map_or(1.0, |s| s.velocity_scale(cfg))
+}
+
+/// Time scale of the scene of `cfg` (see [`Scene::time_scale`]).
+pub fn time_scale(cfg: &SceneConfig) -> f64 {
+    for_config(cfg).map_or(1.0, |s| s.time_scale(&s.effective_config(cfg)))
 }

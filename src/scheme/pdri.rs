@@ -1,7 +1,7 @@
 //! PDRI-SPH of Ren, Lu & Jiang 2015: standard SPH with periodic density reinitialisation.
 //!
 //! The rates are the same discretisation as Fang's WCSPH (Ren eqs. 13-16, 19, 21 are Fang eqs.
-//! 23, 26, 27, 30-38), computed by the shared [`Core`] with Ren's walls:
+//! 23, 26, 27, 30-38), computed by the shared [`WcCore`] with Ren's walls:
 //! wall particles whose values are interpolated with the weights 2h - r (eq. 23a) and ghost
 //! particles extrapolated from them and from the point F at d0 inside the fluid (eq. 23b).
 //! What is Ren's own lives here:
@@ -26,13 +26,17 @@
 //! evaluations, the same average that moves the fluid in eq. (25b), so its time integral is the
 //! fluid's momentum change minus the gravity impulse, to round-off.
 
-use super::common::{Core, Params, WallModel};
+use super::health::check_health;
+use super::params::Params;
+use super::wc::{ghost_walls, WcCore};
 use super::Scheme;
+use crate::boundary::ghost::WallModel;
 use crate::boundary::plate::Plate;
 use crate::kernel::Kernel;
+use crate::neighbors::Domain;
 use crate::particles::Fluid;
 use crate::rheology::Rheology;
-use crate::simulation::State;
+use crate::state::State;
 use crate::Vec2;
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
@@ -49,7 +53,7 @@ pub const MLS_SINGULAR_DET: f64 = 1e-3;
 
 /// The PDRI-SPH scheme for kernel `K` and rheology `R`.
 pub struct Pdri<K: Kernel, R: Rheology> {
-    core: Core<K, R>,
+    core: WcCore<K, R>,
     /// X^n + dt/2 G(X^n), the first half of eq. (25b).
     first: Fluid,
     /// The predicted state X~^{n+1} (eq. 25a).
@@ -59,9 +63,12 @@ pub struct Pdri<K: Kernel, R: Rheology> {
 }
 
 impl<K: Kernel, R: Rheology> Pdri<K, R> {
-    pub fn new(kernel: K, model: R, p: Params, plate: Option<Plate>) -> Self {
+    /// The scheme for the walls `plates` of the initial state, each with Ren's wall and ghost
+    /// particles.
+    pub fn new(kernel: K, model: R, p: Params, plates: &[Plate]) -> Self {
+        let walls = ghost_walls(kernel, WallModel::Ren, &p, plates);
         Self {
-            core: Core::new(kernel, model, p, plate, WallModel::Ren),
+            core: WcCore::new(kernel, model, p, walls),
             first: Fluid::default(),
             pred: Fluid::default(),
             next: Fluid::default(),
@@ -82,7 +89,7 @@ impl<K: Kernel, R: Rheology> Pdri<K, R> {
             // consistency where the support is cut by the wall, as at the free surface.
             let list = c.neighbors_of(i);
             let end = list.partition_point(|&j| (j as usize) < nf);
-            mls_density(&c.kernel, fluid, &list[..end], i)
+            mls_density(&c.kernel, &c.p.domain, fluid, &list[..end], i)
         }));
         fl.rho.copy_from_slice(&self.rho_new);
     }
@@ -95,7 +102,7 @@ impl<K: Kernel, R: Rheology> Pdri<K, R> {
 /// beyond the support add nothing. When M is singular (determinant below [`MLS_SINGULAR_DET`]),
 /// or the corrected value is not a positive number, the Shepard sum
 /// sum_j m_j W_ij / sum_j V_j W_ij is used instead, as Ren's section 3.2 prescribes.
-pub fn mls_density<K: Kernel>(kernel: &K, fl: &Fluid, list: &[u32], i: usize) -> f64 {
+pub fn mls_density<K: Kernel>(kernel: &K, dom: &Domain, fl: &Fluid, list: &[u32], i: usize) -> f64 {
     let r2max = kernel.radius().powi(2);
     let xi = fl.x[i];
     let mut m = Matrix3::<f64>::zeros();
@@ -103,7 +110,7 @@ pub fn mls_density<K: Kernel>(kernel: &K, fl: &Fluid, list: &[u32], i: usize) ->
     let mut vw = 0.0;
     for &j in list {
         let j = j as usize;
-        let xji = fl.x[j] - xi;
+        let xji = dom.delta(&fl.x[j], &xi);
         let r2 = xji.norm_squared();
         if r2 >= r2max {
             continue;
@@ -137,8 +144,8 @@ pub fn mls_density<K: Kernel>(kernel: &K, fl: &Fluid, list: &[u32], i: usize) ->
 impl<K: Kernel, R: Rheology> Scheme for Pdri<K, R> {
     fn step(&mut self, st: &mut State, max_dt: f64) -> Result<f64, String> {
         let c = &mut self.core;
-        c.refresh_neighbors(&st.fluid.x, &mut st.plate);
-        let r0 = c.rates(&st.fluid);
+        c.refresh_neighbors(&st.fluid.x, &mut st.walls);
+        let r0 = c.rates(&st.fluid, &st.walls);
         let factor = c.p.dt_factor.min(REN_DT_FACTOR);
         let dt_stable = c.stable_dt(&st.fluid, &r0, factor, false); // eq. (25c)
         let dt = dt_stable.min(max_dt);
@@ -150,8 +157,8 @@ impl<K: Kernel, R: Rheology> Scheme for Pdri<K, R> {
         let fl = &st.fluid;
         c.update(&mut self.pred, fl, &fl.v, &fl.conf, dt);
         c.update(&mut self.first, fl, &fl.v, &fl.conf, 0.5 * dt);
-        c.refresh_neighbors(&self.pred.x, &mut st.plate);
-        let r1 = c.rates(&self.pred);
+        c.refresh_neighbors(&self.pred.x, &mut st.walls);
+        let r1 = c.rates(&self.pred, &st.walls);
         // Corrector, eq. (25b): X^{n+1} = (X^n + dt/2 G(X^n)) + dt/2 G(X~^{n+1}).
         c.update(
             &mut self.next,
@@ -169,15 +176,15 @@ impl<K: Kernel, R: Rheology> Scheme for Pdri<K, R> {
         st.last_dt = dt_stable;
         let interval = self.core.p.reinit_interval;
         if interval > 0 && (st.step + 1).is_multiple_of(interval) {
-            self.core.refresh_neighbors(&st.fluid.x, &mut st.plate);
+            self.core.refresh_neighbors(&st.fluid.x, &mut st.walls);
             self.reinitialise_density(&mut st.fluid);
         }
-        st.void_fraction = self.core.check_health(&st.fluid, &st.plate)?;
+        st.void_fraction = check_health::<R>(&self.core.p, &st.fluid, &st.walls)?;
         Ok(dt)
     }
 
-    fn wall_positions(&self) -> Vec<Vec2> {
-        self.core.wall_positions()
+    fn wall_positions(&self, st: &State) -> Vec<Vec2> {
+        self.core.wall_positions(&st.walls)
     }
 }
 
@@ -185,7 +192,7 @@ impl<K: Kernel, R: Rheology> Scheme for Pdri<K, R> {
 mod tests {
     use super::*;
     use crate::kernel::CubicSpline;
-    use crate::scheme::common::lattice_block;
+    use crate::scheme::wc::lattice_block;
 
     /// A square lattice block of side n dx, densities rho(x) = rho0 (1 + g . x).
     fn block(n: i64, dx: f64, g: Vec2) -> Fluid {
@@ -235,7 +242,7 @@ mod tests {
         let f = block(12, dx, g);
         let list = all(&f);
         for i in [0, 5, 6 * 12 + 6, 143] {
-            let rho = mls_density(&k, &f, &list, i);
+            let rho = mls_density(&k, &Domain::OPEN, &f, &list, i);
             assert!(
                 (rho - f.rho[i]).abs() < 1e-9 * f.rho[i],
                 "particle {i}: {rho} vs {}",
@@ -268,7 +275,7 @@ mod tests {
             f.v.push(Vec2::zeros());
             f.rho.push(1000.0 + i as f64);
         }
-        let rho = mls_density(&k, &f, &all(&f), 2);
+        let rho = mls_density(&k, &Domain::OPEN, &f, &all(&f), 2);
         let (mut num, mut den) = (0.0, 0.0);
         for j in 0..5 {
             let w = k.w((f.x[j] - f.x[2]).norm());

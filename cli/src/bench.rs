@@ -1,0 +1,1188 @@
+//! Benchmarks: `viscosph bench <what>`. Speed is measured here, never by timed assertions in tests.
+//!
+//! * `drop` (issue 2): Fang's Newtonian and Oldroyd-B drops at 20, 40 and 80 particles per
+//!   diameter: wall time, steps, particle-steps per second, and the largest difference of W*(t*)
+//!   from the finest run.
+//! * `throughput`: particle-steps per second of the Newtonian and Oldroyd-B drop on 1 and 2
+//!   threads at about 10^3, 10^4 and 10^5 particles, and the Oldroyd-B / Newtonian cost ratio.
+//!
+//! A case is a named [`SceneConfig`]; adding a scheme or a scene to a benchmark is adding a line to
+//! its case list.
+
+use crate::io::plot::{line_panels, status_grid, Panel, Series};
+use crate::run::{run, time_scale, RunOptions};
+use clap::{Args, Subcommand};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use viscosph::config::{RheologyKind, SchemeKind, RHEOLOGIES, SCHEMES};
+use viscosph::config::{SceneConfig, Value};
+use viscosph::diagnostics::Outputs;
+use viscosph::simulation::Simulation;
+
+#[derive(Args, Debug)]
+pub struct BenchArgs {
+    #[command(subcommand)]
+    pub what: BenchKind,
+    /// Output directory for CSV, Markdown and PNG files.
+    #[arg(long, global = true, default_value = "results/bench")]
+    pub out: PathBuf,
+    /// Smaller sizes, for smoke tests: checks the outputs' structure, not speed.
+    #[arg(long, global = true)]
+    pub quick: bool,
+}
+
+#[derive(Subcommand, Debug, Clone)]
+pub enum BenchKind {
+    /// Fang's drops at 20/40/80 particles per diameter: cost and convergence of W*(t*).
+    Drop,
+    /// Particle-steps per second on 1 and 2 threads at 10^3..10^5 particles.
+    Throughput,
+    /// Stability maps: sweeps of De, beta, inclination, impact velocity and resolution.
+    Stability,
+    /// Error against run time for every scheme on problems with a trustworthy reference.
+    Accuracy,
+    /// Fang's drop (De = 1, beta = 0.1) with every rheology: W*(t*) and H*(t*) overlaid, like
+    /// King & Lind's Fig. 16.
+    Rheologies,
+    /// Redraw the PNGs that the CSV files in --out hold the data of (accuracy.png), without
+    /// running anything: for a change of the plot style.
+    Replot,
+    /// Assemble docs/benchmarks.md from the results of the other subcommands (run them first),
+    /// with the machine and commit noted and the PNGs copied to docs/bench/.
+    Report {
+        /// Where the report goes.
+        #[arg(long, default_value = "docs")]
+        docs: PathBuf,
+    },
+}
+
+pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
+    std::fs::create_dir_all(&args.out)?;
+    // Which commit each measurement ran on, for the report (which may be assembled later);
+    // taken before measuring, so a commit made meanwhile is not credited.
+    let commit = git_commit();
+    let stem = match args.what {
+        BenchKind::Drop => Some("drop"),
+        BenchKind::Throughput => Some("throughput"),
+        BenchKind::Stability => Some("stability"),
+        BenchKind::Accuracy => Some("accuracy"),
+        BenchKind::Rheologies => Some("rheologies"),
+        BenchKind::Report { .. } | BenchKind::Replot => None,
+    };
+    let report = match args.what {
+        BenchKind::Drop => bench_drop(&args.out, args.quick)?,
+        BenchKind::Throughput => bench_throughput(&args.out, args.quick)?,
+        BenchKind::Stability => bench_stability(&args.out, args.quick)?,
+        BenchKind::Accuracy => bench_accuracy(&args.out, args.quick)?,
+        BenchKind::Rheologies => bench_rheologies(&args.out, args.quick)?,
+        BenchKind::Report { ref docs } => bench_report(&args.out, docs)?,
+        BenchKind::Replot => bench_replot(&args.out)?,
+    };
+    if let Some(stem) = stem {
+        std::fs::write(args.out.join(format!("{stem}.commit")), commit + "\n")?;
+    }
+    println!("{report}");
+    Ok(())
+}
+
+/// A configuration from the defaults and (name, value) pairs; panics on a bad pair (benchmark
+/// cases are written in code, so a bad one is a programming error).
+pub fn case(pairs: &[(&str, Value)]) -> SceneConfig {
+    let mut c = SceneConfig::default();
+    for (k, v) in pairs {
+        c.set(k, v.clone())
+            .unwrap_or_else(|e| panic!("benchmark case: {e}"));
+    }
+    c
+}
+
+/// Fang's Newtonian drop (epsilon = 0.2) and Oldroyd-B drop (epsilon = 0.5, the defaults).
+pub fn fang_cases() -> Vec<(&'static str, SceneConfig)> {
+    vec![
+        (
+            "newtonian",
+            case(&[
+                ("rheology", Value::Text("newtonian".into())),
+                ("artificial_stress_epsilon", Value::Real(0.2)),
+            ]),
+        ),
+        ("oldroyd_b", case(&[])),
+    ]
+}
+
+/// One row of a drop benchmark.
+#[derive(Debug, Clone)]
+pub struct DropRow {
+    pub case: String,
+    pub ppd: i64,
+    pub particles: usize,
+    pub steps: u64,
+    pub wall_seconds: f64,
+    pub throughput: f64,
+    /// Largest |W*(t*) - W*_finest(t*)| over the common output times.
+    pub w_diff: f64,
+    /// Particles put back above the plate (the impenetrability condition of Fang's walls).
+    pub wall_reflections: u64,
+    pub error: Option<String>,
+    pub series: Vec<(f64, Outputs)>,
+}
+
+/// Largest difference of W* = width/D between two series sampled at the same times.
+pub fn max_width_difference(a: &[(f64, Outputs)], b: &[(f64, Outputs)], d: f64) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|((_, x), (_, y))| ((x.drop_width - y.drop_width) / d).abs())
+        .fold(0.0, f64::max)
+}
+
+/// Run each case at each resolution to `t_star_end` and fill in the difference of W* from the
+/// finest run of its case.
+pub fn drop_convergence(
+    cases: &[(&'static str, SceneConfig)],
+    ppds: &[i64],
+    t_star_end: f64,
+) -> Result<Vec<DropRow>, Box<dyn std::error::Error>> {
+    let mut rows: Vec<DropRow> = Vec::new();
+    for (name, base) in cases {
+        let mut group = Vec::new();
+        for &ppd in ppds {
+            let mut cfg = base.clone();
+            cfg.set("particles_per_diameter", Value::Integer(ppd))?;
+            let ts = time_scale(&cfg);
+            let opts = RunOptions {
+                t_end: t_star_end * ts,
+                output_interval: 0.05 * ts,
+                ..RunOptions::for_scene(&cfg)
+            };
+            eprintln!(
+                "bench: {} {name} at {ppd} particles per diameter ...",
+                cfg.scheme
+            );
+            let r = run(&cfg, &opts)?;
+            group.push(DropRow {
+                case: name.to_string(),
+                ppd,
+                particles: r.particles,
+                steps: r.steps,
+                wall_seconds: r.wall_seconds,
+                throughput: r.throughput(),
+                w_diff: 0.0,
+                wall_reflections: r.wall_reflections,
+                error: r.error.map(|e| e.to_string()),
+                series: r.series,
+            });
+        }
+        let finest = group.last().expect("resolutions").series.clone();
+        let d = base.drop_diameter;
+        for row in &mut group {
+            row.w_diff = max_width_difference(&row.series, &finest, d);
+        }
+        rows.extend(group);
+    }
+    Ok(rows)
+}
+
+/// Observed order of convergence from three resolutions refined by a factor of 2
+/// (Richardson): p = log2(|W_c - W_m| / |W_m - W_f|) in the max norm over the common times.
+pub fn observed_order(
+    coarse: &[(f64, Outputs)],
+    mid: &[(f64, Outputs)],
+    fine: &[(f64, Outputs)],
+    d: f64,
+) -> f64 {
+    let e1 = max_width_difference(coarse, mid, d);
+    let e2 = max_width_difference(mid, fine, d);
+    (e1 / e2).log2()
+}
+
+fn bench_drop(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::Error>> {
+    let ppds: &[i64] = if quick { &[10, 14, 20] } else { &[20, 40, 80] };
+    let t_star_end = if quick { 3.0 } else { 8.0 };
+    let rows = drop_convergence(&fang_cases(), ppds, t_star_end)?;
+    // CSV, Markdown table, PNG.
+    let mut csv = String::from("case,particles_per_diameter,particles,steps,wall_seconds,particle_steps_per_second,max_w_star_difference_from_finest,wall_reflections,error\n");
+    let mut md = String::from("| case | particles/D | particles | steps | wall time [s] | particle-steps/s | max \\|ΔW*\\| vs finest | put back above the plate | breakdown |\n|---|---|---|---|---|---|---|---|---|\n");
+    for r in &rows {
+        let err = r.error.clone().unwrap_or_default();
+        let cells = [
+            r.case.clone(),
+            r.ppd.to_string(),
+            r.particles.to_string(),
+            r.steps.to_string(),
+            format!("{:.2}", r.wall_seconds),
+            format!("{:.3e}", r.throughput),
+            format!("{:.4}", r.w_diff),
+            r.wall_reflections.to_string(),
+        ];
+        writeln!(csv, "{},\"{err}\"", cells.join(","))?;
+        let breakdown = if err.is_empty() { "none" } else { &err };
+        writeln!(md, "| {} | {breakdown} |", cells.join(" | "))?;
+    }
+    std::fs::write(out.join("drop.csv"), &csv)?;
+    std::fs::write(out.join("drop.md"), &md)?;
+    let cfg = SceneConfig::default();
+    let ts = time_scale(&cfg);
+    let d = cfg.drop_diameter;
+    let mut panels = Vec::new();
+    for (name, _) in fang_cases() {
+        panels.push(Panel {
+            title: format!("{name}: W*(t*) at each resolution"),
+            x_label: "t* = t V / D [-]".into(),
+            y_label: "W* = W / D [-]".into(),
+            series: rows
+                .iter()
+                .filter(|r| r.case == name)
+                .map(|r| Series {
+                    label: format!("{} particles/D", r.ppd),
+                    points: r
+                        .series
+                        .iter()
+                        .map(|(t, o)| (t / ts, o.drop_width / d))
+                        .collect(),
+                })
+                .collect(),
+            log: (false, false),
+        });
+    }
+    panels.push(Panel {
+        title: "cost against difference from the finest run".into(),
+        x_label: "wall time [s]".into(),
+        y_label: "max |W* - W*_finest| [-]".into(),
+        series: fang_cases()
+            .iter()
+            .map(|(name, _)| Series {
+                label: name.to_string(),
+                points: rows
+                    .iter()
+                    .filter(|r| r.case == *name && r.w_diff > 0.0)
+                    .map(|r| (r.wall_seconds, r.w_diff))
+                    .collect(),
+            })
+            .collect(),
+        log: (true, true),
+    });
+    line_panels(&out.join("drop.png"), &panels, 3, (1950, 620))?;
+    Ok(md)
+}
+
+/// Particles per diameter giving about `n` particles in the disc (pi/4 ppd^2 = n).
+pub fn ppd_for(n: f64) -> i64 {
+    (4.0 * n / std::f64::consts::PI).sqrt().round() as i64
+}
+
+/// Measure particle-steps per second of `cfg` over `steps` steps on `threads` threads, starting
+/// just before impact (the drop is set down one spacing above the plate so walls take part).
+pub fn measure_throughput(
+    cfg: &SceneConfig,
+    steps: u64,
+    threads: usize,
+) -> Result<(f64, usize), Box<dyn std::error::Error>> {
+    // The simulation runs in its own pool of `threads` workers.
+    let mut cfg = cfg.clone();
+    cfg.threads = threads as i64;
+    let r: Result<(f64, usize), viscosph::simulation::SimError> = (|| {
+        let mut sim = Simulation::new(cfg)?;
+        // One tiny step to learn the stable step, then time `steps` steps.
+        sim.advance_to(1e-12)?;
+        let dt = sim.state().last_dt;
+        let s0 = sim.state().step;
+        let start = std::time::Instant::now();
+        sim.advance_to(sim.time() + dt * steps as f64 * 0.999)?;
+        let secs = start.elapsed().as_secs_f64();
+        let done = sim.state().step - s0;
+        let n = sim.state().fluid.len();
+        Ok((n as f64 * done as f64 / secs, n))
+    })();
+    Ok(r?)
+}
+
+fn bench_throughput(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::Error>> {
+    let sizes: &[f64] = if quick {
+        &[300.0, 1000.0]
+    } else {
+        &[1e3, 1e4, 1e5]
+    };
+    let mut md = String::from(
+        "| case | particles | threads | particle-steps/s | per core |\n|---|---|---|---|---|\n",
+    );
+    let mut csv = String::from("case,particles,threads,particle_steps_per_second\n");
+    let mut by: Vec<(String, usize, usize, f64)> = Vec::new();
+    for (name, base) in fang_cases() {
+        for &n in sizes {
+            let mut cfg = base.clone();
+            let ppd = ppd_for(n);
+            cfg.set("particles_per_diameter", Value::Integer(ppd))?;
+            // Start one spacing above the plate, moving down: walls are in play from the first step.
+            let h = 0.5 * cfg.drop_diameter + 1.5 * cfg.dx();
+            cfg.set("initial_drop_height", Value::Real(h))?;
+            let steps = ((2e6 / n) as u64).clamp(10, 400) / if quick { 4 } else { 1 };
+            for threads in [1usize, 2] {
+                eprintln!("bench throughput: {name}, {n:.0} particles, {threads} thread(s) ...");
+                let (tp, np) = measure_throughput(&cfg, steps.max(4), threads)?;
+                by.push((name.to_string(), np, threads, tp));
+                writeln!(csv, "{name},{np},{threads},{tp:.4e}")?;
+                writeln!(
+                    md,
+                    "| {name} | {np} | {threads} | {tp:.3e} | {:.3e} |",
+                    tp / threads as f64
+                )?;
+            }
+        }
+    }
+    writeln!(
+        md,
+        "\n| particles | threads | cost ratio Oldroyd-B / Newtonian |\n|---|---|---|"
+    )?;
+    for (name, np, th, tp) in &by {
+        if name == "newtonian" {
+            if let Some((_, _, _, tpo)) = by.iter().find(|(n2, np2, th2, _)| {
+                n2 == "oldroyd_b" && *th2 == *th && (*np2 as f64 / *np as f64 - 1.0).abs() < 0.05
+            }) {
+                writeln!(md, "| {np} | {th} | {:.2} |", tp / tpo)?;
+            }
+        }
+    }
+    let (lib, chunks, fmu) = fmu_overhead(if quick { 0.04 } else { 0.16 })?;
+    writeln!(
+        md,
+        "\n### FMU overhead: the default drop to t = {} s\n",
+        if quick { 0.04 } else { 0.16 }
+    )?;
+    writeln!(
+        md,
+        "| path | wall time [s] | relative to one library call |\n|---|---|---|"
+    )?;
+    writeln!(md, "| library, one `advance_to` | {lib:.3} | 1.00 |")?;
+    writeln!(
+        md,
+        "| library, `advance_to` + `outputs` every 1 ms | {chunks:.3} | {:.3} |",
+        chunks / lib
+    )?;
+    writeln!(
+        md,
+        "| FMI layer, `fmi2DoStep` + `fmi2GetReal` of every output every 1 ms | {fmu:.3} | {:.3} |",
+        fmu / lib
+    )?;
+    writeln!(csv, "fmu_overhead_library_one_call,,,{lib:.4}\nfmu_overhead_library_1ms,,,{chunks:.4}\nfmu_overhead_fmi_1ms,,,{fmu:.4}")?;
+    std::fs::write(out.join("throughput.csv"), &csv)?;
+    std::fs::write(out.join("throughput.md"), &md)?;
+    Ok(md)
+}
+
+/// Wall times of the default drop to `t_end`: one library call, the library in 1 ms chunks with
+/// the outputs read each time, and the FMI 2.0 instance layer (the code behind the exported
+/// `fmi2*` functions: state machine, value-reference lookup, `fmi2DoStep`, `fmi2GetReal` of every
+/// output) at a 1 ms communication step. The C ABI hop on top of that layer is a null check and a
+/// `catch_unwind`, nanoseconds per call.
+pub fn fmu_overhead(t_end: f64) -> Result<(f64, f64, f64), Box<dyn std::error::Error>> {
+    use viscosph::fmi2::instance::Instance;
+    let cfg = SceneConfig::default();
+    let h = 1e-3;
+    let n = (t_end / h).round() as usize;
+    let start = std::time::Instant::now();
+    let mut sim = Simulation::new(cfg.clone())?;
+    sim.advance_to(t_end)?;
+    let lib = start.elapsed().as_secs_f64();
+
+    let start = std::time::Instant::now();
+    let mut sim = Simulation::new(cfg)?;
+    let mut sink = 0.0;
+    for k in 1..=n {
+        sim.advance_to(k as f64 * h)?;
+        sink += sim.outputs().drop_width;
+    }
+    let chunks = start.elapsed().as_secs_f64();
+
+    let vrs: Vec<u32> = viscosph::OUTPUTS
+        .iter()
+        .filter(|o| o.name != "particle_count")
+        .map(|o| o.value_reference)
+        .collect();
+    let mut values = vec![0.0; vrs.len()];
+    let start = std::time::Instant::now();
+    let mut inst = Instance::new("bench", false, Box::new(|_, _, _| {}));
+    let ok =
+        |s: viscosph::fmi2::types::Status, what: &str| -> Result<(), Box<dyn std::error::Error>> {
+            if s == viscosph::fmi2::types::Status::Ok {
+                Ok(())
+            } else {
+                Err(format!("FMI layer: {what} answered {s:?}").into())
+            }
+        };
+    ok(
+        inst.setup_experiment(None, 0.0, Some(t_end)),
+        "setup_experiment",
+    )?;
+    ok(
+        inst.enter_initialization_mode(),
+        "enter_initialization_mode",
+    )?;
+    ok(inst.exit_initialization_mode(), "exit_initialization_mode")?;
+    for k in 0..n {
+        ok(inst.do_step(k as f64 * h, h), "do_step")?;
+        ok(inst.get_real(&vrs, &mut values), "get_real")?;
+        sink += values[0];
+    }
+    let fmu = start.elapsed().as_secs_f64();
+    assert!(sink.is_finite());
+    Ok((lib, chunks, fmu))
+}
+
+/// One point of an accuracy-against-cost curve.
+#[derive(Debug, Clone)]
+pub struct AccuracyPoint {
+    pub problem: String,
+    pub scheme: String,
+    pub resolution: String,
+    pub wall_seconds: f64,
+    pub error: f64,
+}
+
+fn bench_accuracy(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::Error>> {
+    let mut points: Vec<AccuracyPoint> = Vec::new();
+    let mut md = String::new();
+    // Fang's drops: error of W*(t*) against a Richardson extrapolation from resolutions 1:2:4.
+    let ppds: &[i64] = if quick { &[8, 16, 32] } else { &[20, 40, 80] };
+    let t_star_end = if quick { 3.0 } else { 8.0 };
+    writeln!(
+        md,
+        "### Fang drop: W*(t*) to t* = {t_star_end} against a Richardson extrapolation\n"
+    )?;
+    writeln!(md, "| scheme | case | particles/D | wall time [s] | max \\|W* - W*_extrapolated\\| | observed order |\n|---|---|---|---|---|---|")?;
+    for scheme in built_schemes() {
+        let cases: Vec<(&'static str, SceneConfig)> = fang_cases()
+            .into_iter()
+            .map(|(n, mut c)| {
+                c.scheme = scheme;
+                (n, c)
+            })
+            .collect();
+        let rows = drop_convergence(&cases, ppds, t_star_end)?;
+        let d = SceneConfig::default().drop_diameter;
+        for (name, _) in &cases {
+            let g: Vec<&DropRow> = rows.iter().filter(|r| r.case == *name).collect();
+            if g.iter().any(|r| r.error.is_some()) {
+                writeln!(
+                    md,
+                    "| {scheme} | {name} | - | - | broke down: {} | - |",
+                    g.iter().find_map(|r| r.error.clone()).unwrap_or_default()
+                )?;
+                continue;
+            }
+            let p = observed_order(&g[0].series, &g[1].series, &g[2].series, d);
+            // Extrapolated W* = W_f + (W_f - W_m) / (2^p - 1), with p at least 1 so a noisy
+            // order estimate does not blow the correction up.
+            let pe = p.max(1.0);
+            let ext: Vec<(f64, Outputs)> = g[2]
+                .series
+                .iter()
+                .zip(&g[1].series)
+                .map(|((t, f), (_, m))| {
+                    let mut o = *f;
+                    o.drop_width =
+                        f.drop_width + (f.drop_width - m.drop_width) / (2f64.powf(pe) - 1.0);
+                    (*t, o)
+                })
+                .collect();
+            for r in &g {
+                let e = max_width_difference(&r.series, &ext, d);
+                writeln!(
+                    md,
+                    "| {scheme} | {name} | {} | {:.2} | {:.4} | {:.2} |",
+                    r.ppd, r.wall_seconds, e, p
+                )?;
+                points.push(AccuracyPoint {
+                    problem: format!("drop_{name}"),
+                    scheme: scheme.to_string(),
+                    resolution: format!("{} particles/D", r.ppd),
+                    wall_seconds: r.wall_seconds,
+                    error: e,
+                });
+            }
+        }
+    }
+    // Monaghan's elliptical drop: semi-major axis at t = 0.008 s against the exact ODE.
+    let ell_ppds: &[i64] = if quick { &[12, 25] } else { &[25, 50, 100] };
+    writeln!(
+        md,
+        "\n### Elliptical drop: semi-major axis at t = 0.008 s against the exact ODE\n"
+    )?;
+    writeln!(md, "| scheme | particles/diameter | particles | wall time [s] | semi-major axis error | product of semi-axes (extents / second moments) |\n|---|---|---|---|---|---|")?;
+    let variants: Vec<(String, SceneConfig)> = built_schemes()
+        .into_iter()
+        .flat_map(|scheme| {
+            let intervals: Vec<i64> = if scheme == SchemeKind::Pdri {
+                vec![10, 20, 40]
+            } else {
+                vec![0]
+            };
+            intervals.into_iter().map(move |k| {
+                let c = SceneConfig {
+                    scene: viscosph::config::Scene::EllipticalDrop,
+                    scheme,
+                    density_reinit_interval: k,
+                    ..Default::default()
+                };
+                let name = if scheme == SchemeKind::Pdri {
+                    format!("pdri/{k}")
+                } else {
+                    scheme.to_string()
+                };
+                (name, c)
+            })
+        })
+        .collect();
+    for (name, base) in &variants {
+        for &ppd in ell_ppds {
+            let cfg = SceneConfig {
+                particles_per_diameter: ppd,
+                ..base.clone()
+            };
+            let opts = RunOptions {
+                t_end: viscosph::scene::elliptical_drop::T_END,
+                output_interval: viscosph::scene::elliptical_drop::T_END,
+                ..RunOptions::for_scene(&cfg)
+            };
+            eprintln!("bench: elliptical drop, {name} at {ppd} ...");
+            let r = run(&cfg, &opts)?;
+            let Some(e) = r.elliptical else { continue };
+            writeln!(
+                md,
+                "| {name} | {ppd} | {} | {:.2} | {:+.3} % | {:.4} / {:.4} |",
+                r.particles,
+                r.wall_seconds,
+                100.0 * e.major_error,
+                e.product,
+                e.fitted_product
+            )?;
+            points.push(AccuracyPoint {
+                problem: "elliptical_drop".into(),
+                scheme: name.clone(),
+                resolution: format!("{} particles", r.particles),
+                wall_seconds: r.wall_seconds,
+                error: e.major_error.abs(),
+            });
+        }
+    }
+    let mut csv = String::from("problem,scheme,resolution,wall_seconds,error\n");
+    for p in &points {
+        writeln!(
+            csv,
+            "{},{},{},{:.4},{:.6e}",
+            p.problem, p.scheme, p.resolution, p.wall_seconds, p.error
+        )?;
+    }
+    std::fs::write(out.join("accuracy.csv"), &csv)?;
+    std::fs::write(out.join("accuracy.md"), &md)?;
+    plot_accuracy(out, &points)?;
+    Ok(md)
+}
+
+/// `accuracy.png` from the points of `accuracy.csv`: error against wall time per problem.
+fn plot_accuracy(out: &Path, points: &[AccuracyPoint]) -> Result<(), Box<dyn std::error::Error>> {
+    // Each problem once, in the order first met (the points come scheme by scheme).
+    let mut problems: Vec<String> = Vec::new();
+    for p in points {
+        if !problems.contains(&p.problem) {
+            problems.push(p.problem.clone());
+        }
+    }
+    let panels: Vec<Panel> = problems
+        .iter()
+        .map(|prob| {
+            let mut schemes: Vec<String> = points
+                .iter()
+                .filter(|p| &p.problem == prob)
+                .map(|p| p.scheme.clone())
+                .collect();
+            schemes.dedup();
+            Panel {
+                title: format!("{prob}: error against cost"),
+                x_label: "wall time [s]".into(),
+                y_label: if prob.starts_with("drop") {
+                    "max |W* - W*_extrapolated| [-]".into()
+                } else {
+                    "|semi-major axis error| [-]".into()
+                },
+                series: schemes
+                    .iter()
+                    .map(|s| Series {
+                        label: s.clone(),
+                        points: points
+                            .iter()
+                            .filter(|p| &p.problem == prob && &p.scheme == s && p.error > 0.0)
+                            .map(|p| (p.wall_seconds, p.error))
+                            .collect(),
+                    })
+                    .collect(),
+                log: (true, true),
+            }
+        })
+        .collect();
+    if !panels.is_empty() {
+        line_panels(
+            &out.join("accuracy.png"),
+            &panels,
+            panels.len().min(3),
+            (
+                600 * panels.len().min(3) as u32,
+                500 * panels.len().div_ceil(3) as u32,
+            ),
+        )?;
+    }
+    Ok(())
+}
+
+/// Redraw the PNGs that can be drawn from the CSV files in `out` without running anything
+/// (today `accuracy.png` from `accuracy.csv`), e.g. after a change of the plot style.
+fn bench_replot(out: &Path) -> Result<String, Box<dyn std::error::Error>> {
+    let path = out.join("accuracy.csv");
+    let text = std::fs::read_to_string(&path)
+        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let mut points = Vec::new();
+    for line in text.lines().skip(1).filter(|l| !l.trim().is_empty()) {
+        let f: Vec<&str> = line.split(',').collect();
+        if f.len() != 5 {
+            return Err(format!("{}: bad row '{line}'", path.display()).into());
+        }
+        points.push(AccuracyPoint {
+            problem: f[0].into(),
+            scheme: f[1].into(),
+            resolution: f[2].into(),
+            wall_seconds: f[3].parse()?,
+            error: f[4].parse()?,
+        });
+    }
+    plot_accuracy(out, &points)?;
+    Ok(format!("redrew {}", out.join("accuracy.png").display()))
+}
+
+/// Fang's drop with each rheology in `RHEOLOGIES` (model parameters at their defaults).
+pub fn rheology_cases() -> Vec<(RheologyKind, SceneConfig)> {
+    RHEOLOGIES
+        .iter()
+        .filter_map(|(n, _)| RheologyKind::parse(n))
+        .map(|r| {
+            let c = SceneConfig {
+                rheology: r,
+                ..Default::default()
+            };
+            (r, c)
+        })
+        .collect()
+}
+
+fn bench_rheologies(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::Error>> {
+    let ppd = if quick { 12 } else { 30 };
+    let mut runs = Vec::new();
+    let mut md = String::from("| rheology | first peak W* | t* of peak | W* at t* = 8 | H* at t* = 8 | max tr(A) | wall time [s] | breakdown |\n|---|---|---|---|---|---|---|---|\n");
+    let mut csv = String::from("rheology,time,t_star,w_star,h_star\n");
+    for (r, mut c) in rheology_cases() {
+        c.particles_per_diameter = ppd;
+        let opts = RunOptions::for_scene(&c);
+        eprintln!("bench rheologies: {r} ...");
+        let res = run(&c, &opts)?;
+        let ts = time_scale(&c);
+        let d = c.drop_diameter;
+        let w: Vec<(f64, f64)> = res
+            .series
+            .iter()
+            .map(|(t, o)| (t / ts, o.drop_width / d))
+            .collect();
+        let (peak_w, peak_t) = match first_peak(&w) {
+            Some((t, w)) => (format!("{w:.3}"), format!("{t:.2}")),
+            None => ("none (keeps spreading)".to_string(), "-".to_string()),
+        };
+        let last = res.series.last().expect("series").1;
+        let trace = res
+            .series
+            .iter()
+            .map(|(_, o)| o.max_conformation_trace)
+            .fold(0.0, f64::max);
+        writeln!(
+            md,
+            "| {r} | {peak_w} | {peak_t} | {:.3} | {:.3} | {} | {:.2} | {} |",
+            last.drop_width / d,
+            last.drop_height / d,
+            if trace > 0.0 {
+                format!("{trace:.2}")
+            } else {
+                "-".into()
+            },
+            res.wall_seconds,
+            res.error
+                .as_ref()
+                .map(|e| e.to_string())
+                .unwrap_or("none".into())
+        )?;
+        for (t, o) in &res.series {
+            writeln!(
+                csv,
+                "{r},{t:.6e},{:.4},{:.5},{:.5}",
+                t / ts,
+                o.drop_width / d,
+                o.drop_height / d
+            )?;
+        }
+        runs.push((r.to_string(), res.series));
+    }
+    let cfg = SceneConfig::default();
+    let refs: Vec<(String, &[(f64, Outputs)])> =
+        runs.iter().map(|(n, s)| (n.clone(), &s[..])).collect();
+    crate::run::plot_width_height(&out.join("rheologies.png"), &cfg, &refs)?;
+    std::fs::write(out.join("rheologies.csv"), &csv)?;
+    std::fs::write(out.join("rheologies.md"), &md)?;
+    Ok(md)
+}
+
+/// The first spreading peak of W*: the first point, once the curve has risen 1 % above its
+/// start, after which the curve falls by 1 % of it before it rises above it again (a retraction,
+/// not a wiggle of one particle spacing). `None` if the drop never retracts (a Newtonian drop
+/// keeps spreading): its largest W* is then its last, which is no peak.
+pub fn first_peak(points: &[(f64, f64)]) -> Option<(f64, f64)> {
+    let start = points.first()?.1;
+    for (i, p) in points.iter().enumerate() {
+        if p.1 <= 1.01 * start {
+            continue;
+        }
+        for q in &points[i + 1..] {
+            if q.1 > p.1 {
+                break;
+            }
+            if q.1 < 0.99 * p.1 {
+                return Some(*p);
+            }
+        }
+    }
+    None
+}
+
+/// One line about the machine: CPU model, cores, memory.
+pub fn machine_description() -> String {
+    let cpu = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|t| {
+            t.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split(':').nth(1))
+                .map(|s| s.trim().to_string())
+        })
+        .unwrap_or_else(|| "unknown CPU".into());
+    let mem = std::fs::read_to_string("/proc/meminfo")
+        .ok()
+        .and_then(|t| {
+            t.lines()
+                .find(|l| l.starts_with("MemTotal"))
+                .and_then(|l| l.split_whitespace().nth(1))
+                .and_then(|kb| kb.parse::<f64>().ok())
+        })
+        .map(|kb| format!("{:.0} GiB", kb / 1024.0 / 1024.0))
+        .unwrap_or_default();
+    let cores = std::thread::available_parallelism()
+        .map(|n| n.get())
+        .unwrap_or(1);
+    format!("{cpu}, {cores} cores, {mem}")
+}
+
+/// The commit the binary runs from, `-dirty` if the work tree has uncommitted changes.
+fn git_commit() -> String {
+    std::process::Command::new("git")
+        .args(["describe", "--always", "--dirty", "--abbrev=7"])
+        .output()
+        .ok()
+        .filter(|o| o.status.success())
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+        .unwrap_or_else(|| "unknown".into())
+}
+
+/// The sections of the report: (title, command, markdown file, PNG files) from `results`.
+const REPORT_SECTIONS: &[(&str, &str, &str, &[&str])] = &[
+    (
+        "Accuracy against cost",
+        "viscosph bench accuracy",
+        "accuracy.md",
+        &["accuracy.png"],
+    ),
+    (
+        "Fang's drops at 20/40/80 particles per diameter",
+        "viscosph bench drop",
+        "drop.md",
+        &["drop.png"],
+    ),
+    (
+        "Throughput",
+        "viscosph bench throughput",
+        "throughput.md",
+        &[],
+    ),
+    (
+        "Stability maps",
+        "viscosph bench stability",
+        "stability.md",
+        &[
+            "stability_de_wcsph.png",
+            "stability_de_pdri.png",
+            "stability_beta.png",
+            "stability_inclination.png",
+            "stability_velocity.png",
+            "stability_resolution.png",
+        ],
+    ),
+    (
+        "Every rheology on Fang's drop",
+        "viscosph bench rheologies",
+        "rheologies.md",
+        &["rheologies.png"],
+    ),
+    (
+        "PySPH side by side",
+        "python3 examples/compare_pysph.py",
+        "pysph.md",
+        &[],
+    ),
+];
+
+fn bench_report(results: &Path, docs: &Path) -> Result<String, Box<dyn std::error::Error>> {
+    let img_dir = docs.join("bench");
+    std::fs::create_dir_all(&img_dir)?;
+    let mut md = String::from("# ViscoSPH benchmarks\n\n");
+    writeln!(md, "Generated by `viscosph bench report` from the results of the commands named in each section.\n")?;
+    // The commit each section was measured on (written by the subcommand that measured it).
+    let measured = |file: &str| {
+        let f = results.join(file.replace(".md", ".commit"));
+        std::fs::read_to_string(f)
+            .ok()
+            .map(|t| t.trim().to_string())
+    };
+    let mut commits: Vec<String> = REPORT_SECTIONS
+        .iter()
+        .filter_map(|(_, _, file, _)| measured(file))
+        .collect();
+    commits.sort();
+    commits.dedup();
+    writeln!(md, "- machine: {}", machine_description())?;
+    writeln!(
+        md,
+        "- measured on commit: {}",
+        if commits.is_empty() {
+            "unknown".to_string()
+        } else {
+            commits.join(", ")
+        }
+    )?;
+    writeln!(md, "- report assembled at commit: {}\n", git_commit())?;
+    for (title, cmd, file, pngs) in REPORT_SECTIONS {
+        writeln!(md, "## {title}\n\n`{cmd}`\n")?;
+        if let Some(c) = measured(file) {
+            writeln!(md, "Measured on commit {c}.\n")?;
+        }
+        match std::fs::read_to_string(results.join(file)) {
+            Ok(t) => md.push_str(&t),
+            Err(_) => writeln!(
+                md,
+                "_not run yet: `{cmd}` writes `{}`_",
+                results.join(file).display()
+            )?,
+        }
+        md.push('\n');
+        for png in *pngs {
+            let src = results.join(png);
+            if src.exists() {
+                std::fs::copy(&src, img_dir.join(png))?;
+                writeln!(md, "![{png}](bench/{png})\n")?;
+            }
+        }
+    }
+    std::fs::write(docs.join("benchmarks.md"), &md)?;
+    Ok(format!("wrote {}", docs.join("benchmarks.md").display()))
+}
+
+/// How one stability run ended.
+#[derive(Debug, Clone)]
+pub struct Outcome {
+    pub stable: bool,
+    /// t* of the breakdown.
+    pub t_star: Option<f64>,
+    pub cause: Option<String>,
+    pub wall_seconds: f64,
+}
+
+/// Run a drop to `t_star_end` and classify it; configuration errors count as "not run" (None).
+pub fn classify(cfg: &SceneConfig, t_star_end: f64) -> Option<Outcome> {
+    cfg.validate().ok()?;
+    let ts = time_scale(cfg);
+    let start = std::time::Instant::now();
+    let mut sim = Simulation::new(cfg.clone()).ok()?;
+    let r = sim.advance_to(t_star_end * ts);
+    let wall_seconds = start.elapsed().as_secs_f64();
+    Some(match r {
+        Ok(()) => Outcome {
+            stable: true,
+            t_star: None,
+            cause: None,
+            wall_seconds,
+        },
+        Err(e) => {
+            let (t, cause) = match &e {
+                viscosph::simulation::SimError::Breakdown { time, cause, .. } => {
+                    (Some(time / ts), cause.clone())
+                }
+                other => (None, other.to_string()),
+            };
+            Outcome {
+                stable: false,
+                t_star: t,
+                cause: Some(cause),
+                wall_seconds,
+            }
+        }
+    })
+}
+
+/// Schemes the solver can build now (the others are refused by validation and left out).
+pub fn built_schemes() -> Vec<SchemeKind> {
+    SCHEMES
+        .iter()
+        .filter_map(|(n, _)| SchemeKind::parse(n))
+        .filter(|s| {
+            let c = SceneConfig {
+                scheme: *s,
+                ..Default::default()
+            };
+            c.validate().is_ok()
+        })
+        .collect()
+}
+
+/// The models with a relaxation time (a Deborah number to sweep).
+pub fn elastic_rheologies() -> Vec<RheologyKind> {
+    RHEOLOGIES
+        .iter()
+        .filter_map(|(n, _)| RheologyKind::parse(n))
+        .filter(|r| !matches!(r, RheologyKind::Newtonian | RheologyKind::Cross))
+        .collect()
+}
+
+fn bench_stability(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::Error>> {
+    let t_star_end = if quick { 3.0 } else { 8.0 };
+    let ppd: i64 = if quick { 12 } else { 20 };
+    let des: Vec<f64> = if quick {
+        vec![0.1, 1.0, 100.0]
+    } else {
+        vec![0.1, 0.3, 1.0, 3.0, 10.0, 30.0, 100.0, 300.0, 1000.0]
+    };
+    let mut csv = String::from(
+        "sweep,scheme,rheology,parameter,value,stable,breakdown_t_star,cause,wall_seconds\n",
+    );
+    let mut md = String::new();
+    let base = |scheme: SchemeKind, rheo: RheologyKind| SceneConfig {
+        scheme,
+        rheology: rheo,
+        particles_per_diameter: ppd,
+        ..Default::default()
+    };
+    let record = |csv: &mut String,
+                  sweep: &str,
+                  c: &SceneConfig,
+                  param: &str,
+                  value: f64,
+                  o: &Option<Outcome>| {
+        let (st, t, cause, w) = match o {
+            Some(o) => (
+                if o.stable { "stable" } else { "broken" },
+                o.t_star.map(|t| format!("{t:.3}")).unwrap_or_default(),
+                o.cause.clone().unwrap_or_default().replace('"', "'"),
+                o.wall_seconds,
+            ),
+            None => (
+                "not_run",
+                String::new(),
+                "refused by validation".into(),
+                0.0,
+            ),
+        };
+        let _ = writeln!(
+            csv,
+            "{sweep},{},{},{param},{value},{st},{t},\"{cause}\",{w:.3}",
+            c.scheme, c.rheology
+        );
+    };
+
+    // 1. Deborah number De = lambda V / D, per scheme and elastic rheology (beta = 0.1).
+    writeln!(md, "### Largest stable De (drop to t* = {t_star_end}, {ppd} particles per diameter, beta = 0.1)\n")?;
+    writeln!(
+        md,
+        "| scheme | rheology | largest stable De | first failure |\n|---|---|---|---|"
+    )?;
+    for scheme in built_schemes() {
+        let rheos = elastic_rheologies();
+        let mut cells = Vec::new();
+        for &rheo in &rheos {
+            let mut row = Vec::new();
+            let mut best: Option<f64> = None;
+            let mut first_fail = String::from("none");
+            for &de in &des {
+                let mut c = base(scheme, rheo);
+                c.relaxation_time = de * c.drop_diameter / c.impact_velocity;
+                eprintln!("bench stability: {scheme} {rheo} De = {de} ...");
+                let o = classify(&c, t_star_end);
+                record(&mut csv, "deborah", &c, "De", de, &o);
+                row.push(o.as_ref().map(|o| o.stable));
+                match &o {
+                    Some(o) if o.stable && first_fail == "none" => best = Some(de),
+                    Some(o) if !o.stable && first_fail == "none" => {
+                        first_fail = format!(
+                            "De = {de}: {} (t* = {})",
+                            o.cause.clone().unwrap_or_default(),
+                            o.t_star.map(|t| format!("{t:.2}")).unwrap_or_default()
+                        )
+                    }
+                    _ => {}
+                }
+            }
+            writeln!(
+                md,
+                "| {scheme} | {rheo} | {} | {first_fail} |",
+                best.map(|d| d.to_string()).unwrap_or("none".into())
+            )?;
+            cells.push(row);
+        }
+        status_grid(
+            &out.join(format!("stability_de_{scheme}.png")),
+            &format!("{scheme}: stable (green) / broken (red) drops against De"),
+            "De = lambda V / D [-]",
+            "rheology",
+            &des.iter().map(|d| d.to_string()).collect::<Vec<_>>(),
+            &rheos.iter().map(|r| r.to_string()).collect::<Vec<_>>(),
+            &cells,
+        )?;
+    }
+
+    // 2. One-parameter sweeps of the Oldroyd-B drop (De = 1) per scheme.
+    type Setter = fn(&mut SceneConfig, f64);
+    let sweeps: Vec<(&str, &str, Vec<f64>, Setter)> = vec![
+        (
+            "beta",
+            "viscosity_ratio",
+            vec![0.5, 0.1, 0.05, 0.01, 0.0],
+            |c, v| c.viscosity_ratio = v,
+        ),
+        (
+            "inclination",
+            "plate_inclination [deg]",
+            vec![0.0, 15.0, 30.0, 45.0, 60.0],
+            |c, v| c.plate_inclination = v,
+        ),
+        (
+            "velocity",
+            "impact_velocity [m/s]",
+            vec![0.5, 1.0, 2.0, 3.0, 5.0],
+            |c, v| {
+                // keep De = 1 as V changes
+                c.relaxation_time = c.drop_diameter / v;
+                c.impact_velocity = v;
+            },
+        ),
+        (
+            "resolution",
+            "particles_per_diameter",
+            vec![16.0, 20.0, 30.0, 40.0, 60.0],
+            |c, v| c.particles_per_diameter = v as i64,
+        ),
+    ];
+    writeln!(
+        md,
+        "\n### One-parameter sweeps (Oldroyd-B, De = 1 unless swept)\n"
+    )?;
+    for (name, label, values, set) in sweeps {
+        let values: Vec<f64> = if quick {
+            values.into_iter().take(2).collect()
+        } else {
+            values
+        };
+        let schemes = built_schemes();
+        let mut cells = Vec::new();
+        writeln!(md, "| scheme | {label} | outcome |\n|---|---|---|")?;
+        for &scheme in &schemes {
+            let mut row = Vec::new();
+            for &v in &values {
+                let mut c = base(scheme, RheologyKind::OldroydB);
+                set(&mut c, v);
+                eprintln!("bench stability: {scheme} {name} = {v} ...");
+                let o = classify(&c, t_star_end);
+                record(&mut csv, name, &c, label, v, &o);
+                row.push(o.as_ref().map(|o| o.stable));
+                let desc = match &o {
+                    Some(o) if o.stable => "stable".to_string(),
+                    Some(o) => format!(
+                        "broken at t* = {}: {}",
+                        o.t_star.map(|t| format!("{t:.2}")).unwrap_or_default(),
+                        o.cause.clone().unwrap_or_default()
+                    ),
+                    None => "refused by validation".into(),
+                };
+                writeln!(md, "| {scheme} | {v} | {desc} |")?;
+            }
+            cells.push(row);
+        }
+        writeln!(md)?;
+        status_grid(
+            &out.join(format!("stability_{name}.png")),
+            &format!("Oldroyd-B drop: stable (green) / broken (red) against {label}"),
+            label,
+            "scheme",
+            &values.iter().map(|d| d.to_string()).collect::<Vec<_>>(),
+            &schemes.iter().map(|s| s.to_string()).collect::<Vec<_>>(),
+            &cells,
+        )?;
+    }
+    std::fs::write(out.join("stability.csv"), &csv)?;
+    std::fs::write(out.join("stability.md"), &md)?;
+    Ok(md)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_curve_that_keeps_rising_has_no_first_peak() {
+        // A Newtonian drop: W* rises, with a wiggle smaller than 1 %, to its last value.
+        let rising: Vec<(f64, f64)> = (0..50)
+            .map(|k| {
+                let t = k as f64 * 0.1;
+                (t, 1.0 + t - if k == 20 { 0.005 } else { 0.0 })
+            })
+            .collect();
+        assert_eq!(first_peak(&rising), None);
+        // An Oldroyd-B drop: up to 2.1 at t* = 2.2, retracts to 1.7, spreads again past 2.1.
+        let retracting: Vec<(f64, f64)> = (0..80)
+            .map(|k| {
+                let t = k as f64 * 0.1;
+                let w = if t <= 2.2 {
+                    1.0 + 0.5 * t
+                } else if t <= 4.0 {
+                    2.1 - 0.4 * (t - 2.2) / 1.8
+                } else {
+                    1.7 + 0.3 * (t - 4.0)
+                };
+                (t, w)
+            })
+            .collect();
+        let (t, w) = first_peak(&retracting).unwrap();
+        assert!((t - 2.2).abs() < 1e-9 && (w - 2.1).abs() < 1e-9, "{t} {w}");
+        assert!(
+            retracting.last().unwrap().1 > w,
+            "the final value is larger: not the peak"
+        );
+    }
+
+    #[test]
+    fn ppd_for_hits_the_particle_count() {
+        for n in [1e3, 1e4, 1e5] {
+            let ppd = ppd_for(n) as f64;
+            let got = std::f64::consts::FRAC_PI_4 * ppd * ppd;
+            assert!((got / n - 1.0).abs() < 0.02, "{n} -> {got}");
+        }
+    }
+}

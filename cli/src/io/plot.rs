@@ -1,0 +1,558 @@
+//! PNG plots with plotters: line charts of time series, particle snapshots coloured by a field,
+//! and stability maps. One style for every PNG the project writes (runs, benchmarks, examples):
+//! the font sizes below, labelled axes with units, and for particles the plate drawn, a colour
+//! bar over a robust range and a window that follows the fluid.
+
+use plotters::prelude::*;
+use std::path::Path;
+
+/// Font sizes in pixels, chosen to stay legible when a PNG is shown at its own size.
+const CAPTION: u32 = 26;
+const AXIS_DESC: u32 = 21;
+const TICKS: u32 = 17;
+const FONT: &str = "sans-serif";
+
+type PlotResult = Result<(), Box<dyn std::error::Error>>;
+
+/// A named line.
+pub struct Series {
+    pub label: String,
+    pub points: Vec<(f64, f64)>,
+}
+
+/// One panel of lines sharing axes.
+pub struct Panel {
+    pub title: String,
+    pub x_label: String,
+    pub y_label: String,
+    pub series: Vec<Series>,
+    /// Log axes (x, y).
+    pub log: (bool, bool),
+}
+
+fn bounds(points: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for v in points.filter(|v| v.is_finite() && (!log || *v > 0.0)) {
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    if !lo.is_finite() {
+        return if log { (0.1, 10.0) } else { (0.0, 1.0) };
+    }
+    if log {
+        // Reach the decades around the data, so the axis always has labelled ticks.
+        let (dlo, dhi) = (
+            10f64.powf(lo.log10().floor()),
+            10f64.powf(hi.log10().ceil()),
+        );
+        if hi / lo < 10.0 {
+            (dlo.min(lo / 1.2), dhi.max(hi * 1.2))
+        } else {
+            (lo / 1.5, hi * 1.5)
+        }
+    } else {
+        let pad = ((hi - lo) * 0.05).max(1e-12 * hi.abs().max(1.0));
+        (lo - pad, hi + pad)
+    }
+}
+
+/// A tick label with enough decimals to tell ticks `span / 10` apart.
+fn tick_in(v: f64, span: f64) -> String {
+    let a = v.abs().max(span.abs());
+    if a == 0.0 || !(1e-2..1e4).contains(&a) || !span.is_finite() || span <= 0.0 {
+        return tick(v);
+    }
+    let decimals = (-(span / 10.0).log10().floor()).clamp(0.0, 8.0) as usize;
+    let s = format!("{v:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+/// A short tick label: plain for moderate magnitudes, scientific otherwise.
+fn tick(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 {
+        "0".into()
+    } else if (1e-2..1e4).contains(&a) {
+        let s = format!("{v:.3}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        format!("{v:.1e}")
+    }
+}
+
+/// The corner of a panel with the fewest data points near it, for the legend.
+fn legend_corner(panel: &Panel, xs: (f64, f64), ys: (f64, f64)) -> SeriesLabelPosition {
+    let frac = |v: f64, (lo, hi): (f64, f64), log: bool| {
+        if log {
+            (v.max(1e-300).ln() - lo.ln()) / (hi.ln() - lo.ln())
+        } else {
+            (v - lo) / (hi - lo)
+        }
+    };
+    let mut count = [0usize; 4]; // upper left, upper right, lower left, lower right
+    for p in panel.series.iter().flat_map(|s| s.points.iter()) {
+        let (fx, fy) = (frac(p.0, xs, panel.log.0), frac(p.1, ys, panel.log.1));
+        let (left, right, low, high) = (fx < 0.4, fx > 0.6, fy < 0.45, fy > 0.55);
+        count[0] += usize::from(left && high);
+        count[1] += usize::from(right && high);
+        count[2] += usize::from(left && low);
+        count[3] += usize::from(right && low);
+    }
+    let best = (0..4)
+        .min_by_key(|&k| (count[k], [1, 0, 3, 2][k]))
+        .unwrap_or(1);
+    match best {
+        0 => SeriesLabelPosition::UpperLeft,
+        1 => SeriesLabelPosition::UpperRight,
+        2 => SeriesLabelPosition::LowerLeft,
+        _ => SeriesLabelPosition::LowerRight,
+    }
+}
+
+/// Panels side by side (in a grid of `cols` columns) in one PNG.
+pub fn line_panels(path: &Path, panels: &[Panel], cols: usize, size: (u32, u32)) -> PlotResult {
+    let root = BitMapBackend::new(path, size).into_drawing_area();
+    root.fill(&WHITE)?;
+    let rows = panels.len().div_ceil(cols);
+    let areas = root.split_evenly((rows, cols));
+    for (panel, area) in panels.iter().zip(areas.iter()) {
+        draw_panel(panel, area)?;
+    }
+    root.present()?;
+    Ok(())
+}
+
+fn draw_panel(
+    panel: &Panel,
+    area: &DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>,
+) -> PlotResult {
+    let xs = bounds(
+        panel
+            .series
+            .iter()
+            .flat_map(|s| s.points.iter().map(|p| p.0)),
+        panel.log.0,
+    );
+    let ys = bounds(
+        panel
+            .series
+            .iter()
+            .flat_map(|s| s.points.iter().map(|p| p.1)),
+        panel.log.1,
+    );
+    let mut b = ChartBuilder::on(area);
+    b.caption(&panel.title, (FONT, CAPTION))
+        .margin(14)
+        .x_label_area_size(58)
+        .y_label_area_size(90);
+    macro_rules! draw {
+        ($chart:expr) => {{
+            let mut chart = $chart;
+            chart
+                .configure_mesh()
+                .x_labels(8)
+                .y_labels(8)
+                .x_label_formatter(&|v| {
+                    if panel.log.0 {
+                        tick(*v)
+                    } else {
+                        tick_in(*v, xs.1 - xs.0)
+                    }
+                })
+                .y_label_formatter(&|v| {
+                    if panel.log.1 {
+                        tick(*v)
+                    } else {
+                        tick_in(*v, ys.1 - ys.0)
+                    }
+                })
+                .x_desc(panel.x_label.as_str())
+                .y_desc(panel.y_label.as_str())
+                .label_style((FONT, TICKS))
+                .axis_desc_style((FONT, AXIS_DESC))
+                .draw()?;
+            for (k, s) in panel.series.iter().enumerate() {
+                let color = Palette99::pick(k).to_rgba();
+                let pts: Vec<(f64, f64)> = s
+                    .points
+                    .iter()
+                    .copied()
+                    .filter(|p| p.0.is_finite() && p.1.is_finite())
+                    .filter(|p| (!panel.log.0 || p.0 > 0.0) && (!panel.log.1 || p.1 > 0.0))
+                    .collect();
+                chart
+                    .draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))?
+                    .label(s.label.as_str())
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
+                    });
+                if pts.len() < 40 {
+                    chart.draw_series(pts.iter().map(|p| Circle::new(*p, 3, color.filled())))?;
+                }
+            }
+            if panel.series.len() > 1
+                || !panel.series.is_empty() && !panel.series[0].label.is_empty()
+            {
+                chart
+                    .configure_series_labels()
+                    .position(legend_corner(panel, xs, ys))
+                    .label_font((FONT, TICKS))
+                    .background_style(WHITE.mix(0.8))
+                    .border_style(BLACK)
+                    .draw()?;
+            }
+        }};
+    }
+    match panel.log {
+        (false, false) => draw!(b.build_cartesian_2d(xs.0..xs.1, ys.0..ys.1)?),
+        (true, false) => draw!(b.build_cartesian_2d((xs.0..xs.1).log_scale(), ys.0..ys.1)?),
+        (false, true) => draw!(b.build_cartesian_2d(xs.0..xs.1, (ys.0..ys.1).log_scale())?),
+        (true, true) => {
+            draw!(b.build_cartesian_2d((xs.0..xs.1).log_scale(), (ys.0..ys.1).log_scale())?)
+        }
+    }
+    Ok(())
+}
+
+/// One snapshot of particles: positions, a scalar per particle, wall particles, and the plate.
+pub struct Snapshot {
+    pub title: String,
+    pub points: Vec<(f64, f64)>,
+    pub values: Vec<f64>,
+    pub walls: Vec<(f64, f64)>,
+    /// Particle spacing \[m\]: sets the size of the dots.
+    pub spacing: f64,
+    /// The plate surface: a line through the origin inclined by this angle \[deg\], running
+    /// downhill towards +x; `None` for scenes without a plate.
+    pub plate_inclination: Option<f64>,
+}
+
+/// Perceptually ordered colour map (anchors of matplotlib's viridis), `t` in \[0, 1\].
+fn viridis(t: f64) -> RGBColor {
+    const A: [(f64, f64, f64); 6] = [
+        (68.0, 1.0, 84.0),
+        (65.0, 68.0, 135.0),
+        (42.0, 120.0, 142.0),
+        (34.0, 168.0, 132.0),
+        (122.0, 209.0, 81.0),
+        (253.0, 231.0, 37.0),
+    ];
+    let t = if t.is_finite() {
+        t.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let x = t * (A.len() - 1) as f64;
+    let k = (x.floor() as usize).min(A.len() - 2);
+    let f = x - k as f64;
+    let mix = |a: f64, b: f64| (a + f * (b - a)).round() as u8;
+    RGBColor(
+        mix(A[k].0, A[k + 1].0),
+        mix(A[k].1, A[k + 1].1),
+        mix(A[k].2, A[k + 1].2),
+    )
+}
+
+/// Colour of `v` on the scale [lo, hi], saturated beyond it.
+fn colour(v: f64, lo: f64, hi: f64) -> RGBColor {
+    viridis(if hi > lo { (v - lo) / (hi - lo) } else { 0.5 })
+}
+
+/// The 1st and 99th percentiles of the finite values: a colour range a few outliers cannot
+/// stretch until every particle has one colour. Widened a little if all values are equal.
+pub fn robust_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let mut v: Vec<f64> = values.filter(|x| x.is_finite()).collect();
+    if v.is_empty() {
+        return (0.0, 1.0);
+    }
+    v.sort_by(|a, b| a.total_cmp(b));
+    let at = |q: f64| v[((v.len() - 1) as f64 * q).round() as usize];
+    let (lo, hi) = (at(0.01), at(0.99));
+    if hi > lo {
+        (lo, hi)
+    } else {
+        let pad = 0.05 * lo.abs().max(1e-12);
+        (lo - pad, hi + pad)
+    }
+}
+
+/// Length unit for a scene of size `extent` \[m\]: millimetres below half a metre.
+fn length_unit(extent: f64) -> (f64, &'static str) {
+    if extent < 0.5 {
+        (1e3, "mm")
+    } else {
+        (1.0, "m")
+    }
+}
+
+/// The part of the line p(s) = s (cos a, -sin a) inside the window, if any (Liang-Barsky).
+fn clip_plate(angle_deg: f64, x: (f64, f64), y: (f64, f64)) -> Option<[(f64, f64); 2]> {
+    let d = (angle_deg.to_radians().cos(), -angle_deg.to_radians().sin());
+    let (mut s0, mut s1) = (-1e30, 1e30);
+    for (dir, lo, hi) in [(d.0, x.0, x.1), (d.1, y.0, y.1)] {
+        if dir.abs() < 1e-15 {
+            if 0.0 < lo || 0.0 > hi {
+                return None;
+            }
+        } else {
+            let (a, b) = (lo / dir, hi / dir);
+            s0 = f64::max(s0, a.min(b));
+            s1 = f64::min(s1, a.max(b));
+        }
+    }
+    (s1 > s0).then_some([(s0 * d.0, s0 * d.1), (s1 * d.0, s1 * d.1)])
+}
+
+/// The window of one snapshot: its fluid with a margin, stretched to include the nearest point
+/// of the plate (so the plate is in every panel), and to the panel's aspect ratio (equal scales).
+fn window(shot: &Snapshot, aspect: f64, min_size: f64) -> ((f64, f64), (f64, f64)) {
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for p in &shot.points {
+        x0 = x0.min(p.0);
+        x1 = x1.max(p.0);
+        y0 = y0.min(p.1);
+        y1 = y1.max(p.1);
+    }
+    if x0 > x1 {
+        return ((-1.0, 1.0), (-1.0, 1.0));
+    }
+    if let Some(a) = shot.plate_inclination {
+        // Nearest point of the plate to the fluid's centre.
+        let (cx, cy) = (0.5 * (x0 + x1), 0.5 * (y0 + y1));
+        let d = (a.to_radians().cos(), -a.to_radians().sin());
+        let s = cx * d.0 + cy * d.1;
+        let (px, py) = (s * d.0, s * d.1);
+        x0 = x0.min(px);
+        x1 = x1.max(px);
+        y0 = y0.min(py);
+        y1 = y1.max(py);
+    }
+    let m = 0.12 * (x1 - x0).max(y1 - y0).max(min_size);
+    let (mut x0, mut x1, mut y0, mut y1) = (x0 - m, x1 + m, y0 - m, y1 + m);
+    let (wx, wy) = (x1 - x0, y1 - y0);
+    if wx / wy < aspect {
+        let grow = 0.5 * (wy * aspect - wx);
+        x0 -= grow;
+        x1 += grow;
+    } else {
+        let grow = 0.5 * (wx / aspect - wy);
+        y0 -= grow;
+        y1 += grow;
+    }
+    ((x0, x1), (y0, y1))
+}
+
+/// Snapshots in a grid, like Fang 2006 Fig. 3: each panel's window follows the fluid (equal
+/// scales on both axes, lengths in mm or m), the plate is a dark line with the wall particles
+/// in grey, and one colour scale for all panels: `field` (name and unit) between the 1st and
+/// 99th percentiles of all values, saturated beyond, shown by a colour bar on the right.
+pub fn particle_snapshots(
+    path: &Path,
+    title: &str,
+    shots: &[Snapshot],
+    field: &str,
+    cols: usize,
+    size: (u32, u32),
+) -> PlotResult {
+    let root = BitMapBackend::new(path, size).into_drawing_area();
+    root.fill(&WHITE)?;
+    let (title_area, rest) = root.split_vertically(50);
+    let (body, bar_area) = rest.split_horizontally(size.0.saturating_sub(190));
+    title_area.titled(title, (FONT, CAPTION))?;
+    let (lo, hi) = robust_range(shots.iter().flat_map(|s| s.values.iter().copied()));
+    let extent = shots
+        .iter()
+        .flat_map(|s| s.points.iter())
+        .fold(0.0f64, |e, p| e.max(p.0.abs()).max(p.1.abs()));
+    let (scale, unit) = length_unit(extent);
+    let min_size = shots.first().map_or(0.0, |s| {
+        let (a, b) = s
+            .points
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.0), b.max(p.0)));
+        0.5 * (b - a).max(0.0)
+    });
+    let rows = shots.len().div_ceil(cols).max(1);
+    let areas = body.split_evenly((rows, cols));
+    let (xl, yl) = (52u32, 78u32);
+    for (shot, area) in shots.iter().zip(areas.iter()) {
+        let (aw, ah) = area.dim_in_pixel();
+        let pw = aw as f64 - yl as f64 - 16.0;
+        let ph = ah as f64 - xl as f64 - 16.0 - 30.0;
+        let ((x0, x1), (y0, y1)) = window(shot, pw / ph.max(1.0), min_size);
+        let mut chart = ChartBuilder::on(area)
+            .caption(&shot.title, (FONT, AXIS_DESC))
+            .margin(8)
+            .x_label_area_size(xl)
+            .y_label_area_size(yl)
+            .build_cartesian_2d(x0 * scale..x1 * scale, y0 * scale..y1 * scale)?;
+        chart
+            .configure_mesh()
+            .disable_mesh()
+            .x_labels(5)
+            .y_labels(5)
+            .x_desc(format!("x [{unit}]"))
+            .y_desc(format!("y [{unit}]"))
+            .x_label_formatter(&|v| tick(*v))
+            .y_label_formatter(&|v| tick(*v))
+            .label_style((FONT, TICKS))
+            .axis_desc_style((FONT, TICKS + 1))
+            .draw()?;
+        // Small squares in pixel offsets: far cheaper to rasterise than circles at 10^5 particles.
+        let dot = |p: (f64, f64), r: i32, c: RGBColor| {
+            EmptyElement::at((p.0 * scale, p.1 * scale))
+                + Rectangle::new([(-r, -r), (r, r)], c.filled())
+        };
+        // Dots a third of the particle spacing across: the lattice and any gaps stay visible.
+        let px_per_m = pw / (x1 - x0);
+        let r = (0.22 * shot.spacing * px_per_m).round().clamp(0.0, 6.0) as i32;
+        // plotters does not clip elements placed by pixel offsets: keep only what is inside.
+        let inside = |p: &&(f64, f64)| p.0 >= x0 && p.0 <= x1 && p.1 >= y0 && p.1 <= y1;
+        chart.draw_series(
+            shot.walls
+                .iter()
+                .filter(inside)
+                .map(|p| dot(*p, 1, RGBColor(170, 170, 170))),
+        )?;
+        if let Some(a) = shot.plate_inclination {
+            if let Some([p, q]) = clip_plate(a, (x0, x1), (y0, y1)) {
+                chart.draw_series(std::iter::once(PathElement::new(
+                    vec![(p.0 * scale, p.1 * scale), (q.0 * scale, q.1 * scale)],
+                    RGBColor(40, 40, 40).stroke_width(3),
+                )))?;
+            }
+        }
+        chart.draw_series(
+            shot.points
+                .iter()
+                .zip(&shot.values)
+                .filter(|(p, _)| inside(p))
+                .map(|(p, v)| dot(*p, r, colour(*v, lo, hi))),
+        )?;
+    }
+    colour_bar(&bar_area, field, lo, hi)?;
+    root.present()?;
+    Ok(())
+}
+
+/// A vertical colour bar from `lo` (bottom) to `hi` (top) with five ticks and the field's name.
+fn colour_bar(
+    area: &DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>,
+    field: &str,
+    lo: f64,
+    hi: f64,
+) -> PlotResult {
+    let (_, h) = area.dim_in_pixel();
+    let (top, bottom) = (90i32, h as i32 - 90);
+    let (left, right) = (20i32, 50i32);
+    let n = (bottom - top).max(1);
+    for k in 0..n {
+        let t = 1.0 - k as f64 / n as f64;
+        area.draw(&Rectangle::new(
+            [(left, top + k), (right, top + k + 1)],
+            viridis(t).filled(),
+        ))?;
+    }
+    area.draw(&Rectangle::new([(left, top), (right, bottom)], BLACK))?;
+    for k in 0..5 {
+        let f = k as f64 / 4.0;
+        let y = bottom - (f * (bottom - top) as f64).round() as i32;
+        area.draw(&PathElement::new(vec![(right, y), (right + 6, y)], BLACK))?;
+        area.draw(&Text::new(
+            tick(lo + f * (hi - lo)),
+            (right + 10, y - TICKS as i32 / 2),
+            (FONT, TICKS),
+        ))?;
+    }
+    area.draw(&Text::new(
+        field.to_string(),
+        (left - 10, top - 60),
+        (FONT, TICKS + 1),
+    ))?;
+    area.draw(&Text::new(
+        "1st-99th percentile,".to_string(),
+        (left - 10, bottom + 20),
+        (FONT, TICKS - 3),
+    ))?;
+    area.draw(&Text::new(
+        "saturated beyond".to_string(),
+        (left - 10, bottom + 40),
+        (FONT, TICKS - 3),
+    ))?;
+    Ok(())
+}
+
+/// A grid of cells coloured green (true), red (false) or grey (None), with row and column labels:
+/// a stability map.
+pub fn status_grid(
+    path: &Path,
+    title: &str,
+    x_title: &str,
+    y_title: &str,
+    x_labels: &[String],
+    y_labels: &[String],
+    cells: &[Vec<Option<bool>>],
+) -> PlotResult {
+    let (w, h) = (
+        (260 + 110 * x_labels.len()).max(60 + 13 * title.len()) as u32,
+        (150 + 50 * y_labels.len()) as u32,
+    );
+    let root = BitMapBackend::new(path, (w, h)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let nx = x_labels.len() as f64;
+    let ny = y_labels.len() as f64;
+    let xl = x_labels.to_vec();
+    let yl = y_labels.to_vec();
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, (FONT, CAPTION - 4))
+        .margin(12)
+        .x_label_area_size(62)
+        .y_label_area_size(190)
+        .build_cartesian_2d(0.0..nx, 0.0..ny)?;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_labels(x_labels.len() * 2 + 1)
+        .y_labels(y_labels.len() * 2 + 1)
+        .x_label_formatter(&|v| {
+            let k = v.floor() as usize;
+            if (v - k as f64 - 0.5).abs() < 0.01 && k < xl.len() {
+                xl[k].clone()
+            } else {
+                String::new()
+            }
+        })
+        .y_label_formatter(&|v| {
+            let k = v.floor() as usize;
+            if (v - k as f64 - 0.5).abs() < 0.01 && k < yl.len() {
+                yl[k].clone()
+            } else {
+                String::new()
+            }
+        })
+        .x_desc(x_title)
+        .y_desc(y_title)
+        .label_style((FONT, TICKS))
+        .axis_desc_style((FONT, AXIS_DESC))
+        .draw()?;
+    for (j, row) in cells.iter().enumerate() {
+        for (i, c) in row.iter().enumerate() {
+            let colour = match c {
+                Some(true) => RGBColor(60, 170, 80),
+                Some(false) => RGBColor(210, 60, 50),
+                None => RGBColor(200, 200, 200),
+            };
+            let (x, y) = (i as f64, j as f64);
+            chart.draw_series(std::iter::once(Rectangle::new(
+                [(x + 0.04, y + 0.06), (x + 0.96, y + 0.94)],
+                colour.filled(),
+            )))?;
+        }
+    }
+    root.present()?;
+    Ok(())
+}

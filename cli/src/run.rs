@@ -1,0 +1,599 @@
+//! Running a scene to files: the loop behind `viscosph run`, shared by the CLI, examples and tests.
+
+use crate::io::{csv, plot, vtk};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use viscosph::diagnostics::Outputs;
+use viscosph::simulation::{SimError, Simulation};
+use viscosph::{SceneConfig, Vec2};
+
+/// Settings of one run.
+#[derive(Debug, Clone)]
+pub struct RunOptions {
+    pub t_end: f64,
+    pub output_interval: f64,
+    /// How many particle snapshots (VTK and panels of the particle PNG) to keep, evenly spread.
+    pub snapshots: usize,
+    pub out_dir: Option<PathBuf>,
+    pub progress: bool,
+    /// Run even when the estimated step count exceeds [`MAX_STEPS`].
+    pub force: bool,
+    /// Set (by a signal handler) to stop the run at its next step; the files are still written.
+    pub stop: Option<Arc<AtomicBool>>,
+}
+
+/// Estimated step counts above this are refused without `force`: at about 10^4 steps per
+/// second for the default drop, 10^8 steps are days of computing, almost surely a typo.
+pub const MAX_STEPS: f64 = 1.0e8;
+
+/// The files a run writes into its output folder: those of an earlier run there are removed
+/// first (and nothing else), so the folder never mixes two runs' snapshots.
+pub fn is_run_output(name: &str) -> bool {
+    matches!(
+        name,
+        "timeseries.csv" | "walls.vtk" | "width_height.png" | "particles.png" | "scene.toml"
+    ) || (name.starts_with("particles_") && name.ends_with(".vtk"))
+}
+
+/// Characteristic time of a scene, the unit of t* (the scene's own, see
+/// `viscosph::scene::Scene::time_scale`): D/V for a drop (Fang's t* = t V / D), D / sqrt(g D) if
+/// V = 0; for the elliptical drop, an eighth of Ren's end time 0.008 s; H/U for the channel.
+pub fn time_scale(cfg: &SceneConfig) -> f64 {
+    viscosph::scene::time_scale(cfg)
+}
+
+impl RunOptions {
+    /// Defaults for a scene: to t* = 8 (Fang's figures), an output every t* = 0.05, 8 snapshots.
+    pub fn for_scene(cfg: &SceneConfig) -> Self {
+        let ts = time_scale(cfg);
+        Self {
+            t_end: 8.0 * ts,
+            output_interval: 0.05 * ts,
+            snapshots: 8,
+            out_dir: None,
+            progress: false,
+            force: false,
+            stop: None,
+        }
+    }
+}
+
+/// An error with the path and the operation that failed.
+#[derive(Debug)]
+pub struct FileError {
+    pub operation: &'static str,
+    pub path: PathBuf,
+    pub source: Box<dyn std::error::Error>,
+}
+
+impl std::fmt::Display for FileError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "cannot {} {}: {}",
+            self.operation,
+            self.path.display(),
+            self.source
+        )
+    }
+}
+
+impl std::error::Error for FileError {}
+
+/// Attach the operation and the path to a file error.
+fn at<T, E: Into<Box<dyn std::error::Error>>>(
+    r: Result<T, E>,
+    operation: &'static str,
+    path: &Path,
+) -> Result<T, FileError> {
+    r.map_err(|e| FileError {
+        operation,
+        path: path.to_path_buf(),
+        source: e.into(),
+    })
+}
+
+/// Create `dir` and remove the files an earlier run wrote there ([`is_run_output`]).
+pub fn prepare_out_dir(dir: &Path) -> Result<usize, FileError> {
+    at(
+        std::fs::create_dir_all(dir),
+        "create the output folder",
+        dir,
+    )?;
+    let mut removed = 0;
+    for e in at(std::fs::read_dir(dir), "list the output folder", dir)? {
+        let e = at(e, "list the output folder", dir)?;
+        let name = e.file_name().to_string_lossy().into_owned();
+        if is_run_output(&name) && e.path().is_file() {
+            at(
+                std::fs::remove_file(e.path()),
+                "remove the earlier run's file",
+                &e.path(),
+            )?;
+            removed += 1;
+        }
+    }
+    Ok(removed)
+}
+
+/// The scene file that records a run: every parameter the run used, the automatic sound speed
+/// replaced by the value chosen (so the file reruns the same flow), and for the elliptical
+/// drop only the parameters it takes from the configuration (the rest is the scene's own).
+pub fn scene_record(cfg: &SceneConfig, eff: &SceneConfig) -> String {
+    let mut c = cfg.clone();
+    let mut head = String::new();
+    if cfg.sound_speed == 0.0 && cfg.scene != viscosph::config::Scene::EllipticalDrop {
+        c.sound_speed = eff.resolved_sound_speed();
+        head = format!(
+            "# sound_speed was automatic (0): {} x {:.4} m/s, the largest expected speed\n",
+            viscosph::config::SOUND_SPEED_FACTOR,
+            eff.max_expected_speed()
+        );
+    }
+    let text = c.to_toml_string();
+    if cfg.scene == viscosph::config::Scene::EllipticalDrop {
+        head.push_str(
+            "# The elliptical drop defines its own fluid, size, velocity field and sound speed\n\
+             # (Monaghan 1994); these are the parameters it takes from the scene file.\n",
+        );
+        let used = [
+            "scene",
+            "scheme",
+            "particles_per_diameter",
+            "smoothing_ratio",
+            "time_step_factor",
+            "equation_of_state",
+            "density_reinit_interval",
+        ];
+        for line in text.lines() {
+            if used.iter().any(|u| line.starts_with(&format!("{u} = "))) {
+                head.push_str(line);
+                head.push('\n');
+            }
+        }
+        head
+    } else {
+        head + &text
+    }
+}
+
+/// A one-line description of the sound speed a configuration runs with, for the CLI.
+pub fn sound_speed_text(cfg: &SceneConfig, eff: &SceneConfig) -> String {
+    let c = eff.resolved_sound_speed();
+    if cfg.scene == viscosph::config::Scene::EllipticalDrop {
+        format!("sound speed c = {c} m/s (the elliptical drop's own)")
+    } else if cfg.sound_speed > 0.0 {
+        format!("sound speed c = {c} m/s (set)")
+    } else {
+        format!(
+            "sound speed c = {c:.3} m/s (automatic: {} x {:.3} m/s, impact speed plus free fall)",
+            viscosph::config::SOUND_SPEED_FACTOR,
+            eff.max_expected_speed()
+        )
+    }
+}
+
+/// What a run produced.
+#[derive(Debug, Clone)]
+pub struct RunResult {
+    pub series: Vec<(f64, Outputs)>,
+    /// The breakdown that stopped the run early, if any.
+    pub error: Option<SimError>,
+    pub wall_seconds: f64,
+    pub steps: u64,
+    pub particles: usize,
+    /// Particles put back above the plate by the impenetrability condition of Fang's walls.
+    pub wall_reflections: u64,
+    /// For the elliptical drop: the semi-axes at the end against the exact ones.
+    pub elliptical: Option<viscosph::scene::elliptical_drop::SemiAxes>,
+    /// Stopped by [`RunOptions::stop`] (a signal) before `t_end`, at this time.
+    pub interrupted: Option<f64>,
+}
+
+impl RunResult {
+    /// Particle-steps per second of wall time.
+    pub fn throughput(&self) -> f64 {
+        self.particles as f64 * self.steps as f64 / self.wall_seconds.max(1e-12)
+    }
+}
+
+/// The scalar a particle is coloured by: tr(A) for elastic models, speed otherwise.
+pub fn colour_field(sim: &Simulation) -> (&'static str, Vec<f64>) {
+    let f = &sim.state().fluid;
+    if f.conf.is_empty() {
+        ("speed [m/s]", f.v.iter().map(|v| v.norm()).collect())
+    } else {
+        ("tr(A) [-]", f.conf.iter().map(|a| a.trace()).collect())
+    }
+}
+
+fn snapshot(sim: &Simulation, ts: f64) -> plot::Snapshot {
+    let f = &sim.state().fluid;
+    let eff = sim.effective_config();
+    let has_plate = eff.scene != viscosph::config::Scene::EllipticalDrop;
+    plot::Snapshot {
+        title: if has_plate {
+            format!(
+                "t* = {:.2} (t = {})",
+                sim.time() / ts,
+                time_text(sim.time())
+            )
+        } else {
+            format!("t = {}", time_text(sim.time()))
+        },
+        plate_inclination: has_plate.then_some(eff.plate_inclination),
+        spacing: eff.dx(),
+        points: f.x.iter().map(|p| (p.x, p.y)).collect(),
+        values: colour_field(sim).1,
+        walls: sim
+            .wall_positions()
+            .iter()
+            .step_by(2)
+            .map(|p| (p.x, p.y))
+            .collect(),
+    }
+}
+
+/// A time with a unit a person reads: ms below a second.
+fn time_text(t: f64) -> String {
+    if t < 1.0 {
+        format!("{:.1} ms", 1e3 * t)
+    } else {
+        format!("{t:.3} s")
+    }
+}
+
+fn write_vtk(dir: &Path, k: usize, sim: &Simulation) -> Result<(), FileError> {
+    let f = &sim.state().fluid;
+    let p: Vec<f64> = f.rho.clone();
+    let (name, values) = colour_field(sim);
+    let name = if name.starts_with("tr") {
+        "trace_A"
+    } else {
+        "speed"
+    };
+    let path = dir.join(format!("particles_{k:04}.vtk"));
+    at(
+        vtk::write_particles(
+            &path,
+            &f.x,
+            &f.v,
+            &[
+                vtk::Field {
+                    name: "density",
+                    values: &p,
+                },
+                vtk::Field {
+                    name,
+                    values: &values,
+                },
+            ],
+        ),
+        "write",
+        &path,
+    )?;
+    let w = sim.wall_positions();
+    let path = dir.join("walls.vtk");
+    at(
+        vtk::write_particles(&path, &w, &vec![Vec2::zeros(); w.len()], &[]),
+        "write",
+        &path,
+    )
+}
+
+/// The number of steps a run to `t_end` would take at the scheme's current stable step.
+pub fn estimated_steps(sim: &Simulation, t_end: f64) -> f64 {
+    (t_end - sim.state().time).max(0.0) / sim.state().last_dt.max(1e-300)
+}
+
+/// Advance to `t` in calls of [`Simulation::advance_to`] a tenth of a second of wall time
+/// long, so that `stop` is seen within about that. Each call to an intermediate time is exact
+/// (steps are never shortened to land on it, so the trajectory does not change), but it costs
+/// one evaluation of the outputs: checking after every single step made the default drop 20-50 %
+/// slower, hence `steps` grows or shrinks to keep the calls about 0.1 s apart.
+/// Returns whether it stopped early.
+fn advance_watching(
+    sim: &mut Simulation,
+    t: f64,
+    stop: Option<&AtomicBool>,
+    steps: &mut f64,
+) -> Result<bool, SimError> {
+    let Some(stop) = stop else {
+        sim.advance_to(t)?;
+        return Ok(false);
+    };
+    while sim.state().time < t {
+        if stop.load(Ordering::Relaxed) {
+            return Ok(true);
+        }
+        let st = sim.state();
+        let next = if st.last_dt > 0.0 {
+            (st.time + (*steps - 0.5) * st.last_dt).min(t)
+        } else {
+            t
+        };
+        let clock = std::time::Instant::now();
+        sim.advance_to(next.max(sim.time()))?;
+        let wall = clock.elapsed().as_secs_f64();
+        if wall < 0.05 {
+            *steps = (*steps * 2.0).min(1e6);
+        } else if wall > 0.2 {
+            *steps = (*steps * 0.5).max(1.0);
+        }
+    }
+    sim.advance_to(t)?;
+    Ok(false)
+}
+
+/// Run `cfg` to `opts.t_end`, recording outputs every `opts.output_interval`; with an output
+/// directory (cleaned of an earlier run's files first), write `timeseries.csv`, VTK snapshots,
+/// `width_height.png`, `particles.png` and `scene.toml`. A numerical breakdown or a stop request
+/// ends the run early and is reported in the result; the files are still written, with the last
+/// state as the final snapshot. Errors writing files name the operation and the path.
+pub fn run(cfg: &SceneConfig, opts: &RunOptions) -> Result<RunResult, Box<dyn std::error::Error>> {
+    let mut sim = Simulation::new(cfg.clone())?;
+    let ts = time_scale(sim.effective_config());
+    let n_out = (opts.t_end / opts.output_interval).round().max(1.0) as usize;
+    let snap_every = (n_out / opts.snapshots.max(1)).max(1);
+    let start = std::time::Instant::now();
+    let mut series = vec![(0.0, sim.outputs())];
+    let mut shots = vec![snapshot(&sim, ts)];
+    // One step first: the scheme's stable time step gives the run's length in steps, checked
+    // before any file is touched. (Steps are never shortened to land on an output time, so this
+    // does not change the trajectory.)
+    let first = if n_out > 0 {
+        sim.advance_to(f64::MIN_POSITIVE).map(|_| ())
+    } else {
+        Ok(())
+    };
+    if first.is_ok() {
+        let steps = estimated_steps(&sim, opts.t_end);
+        if steps > MAX_STEPS && !opts.force {
+            let secs = steps * sim.state().fluid.len() as f64 / 1.0e6;
+            return Err(format!(
+                "t_end = {} s would take about {steps:.2e} steps (time step {:.3e} s), more than \
+                 {MAX_STEPS:.0e}: about {:.0} hours at 10^6 particle-steps/s. Check --t-end (the \
+                 default is t* = 8, {} s), or pass --force to run it anyway",
+                opts.t_end,
+                sim.state().last_dt,
+                secs / 3600.0,
+                8.0 * ts
+            )
+            .into());
+        }
+    }
+    if let Some(d) = &opts.out_dir {
+        prepare_out_dir(d)?;
+        write_vtk(d, 0, &sim)?;
+    }
+    let bar = if opts.progress {
+        let b = indicatif::ProgressBar::new(n_out as u64);
+        b.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{bar:40} {pos}/{len} outputs  {msg}  [{elapsed_precise} < {eta_precise}]",
+            )
+            .expect("valid template"),
+        );
+        Some(b)
+    } else {
+        None
+    };
+    let mut error = first.err();
+    let mut interrupted = None;
+    let stop = opts.stop.as_deref();
+    let mut steps_per_call = 1.0;
+    for k in 1..=n_out {
+        if error.is_some() {
+            break;
+        }
+        let t = (k as f64 * opts.output_interval).min(opts.t_end);
+        match advance_watching(&mut sim, t, stop, &mut steps_per_call) {
+            Err(e) => {
+                error = Some(e);
+                break;
+            }
+            Ok(true) => {
+                // Stopped by a signal between outputs: one more row and the last state.
+                interrupted = Some(sim.time());
+                series.push((sim.time(), sim.outputs()));
+                break;
+            }
+            Ok(false) => {}
+        }
+        let o = sim.outputs();
+        series.push((sim.time(), o));
+        if k % snap_every == 0 {
+            shots.push(snapshot(&sim, ts));
+            if let Some(d) = &opts.out_dir {
+                write_vtk(d, k / snap_every, &sim)?;
+            }
+        }
+        if let Some(b) = &bar {
+            b.set_position(k as u64);
+            b.set_message(format!(
+                "t* = {:.2}  W* = {:.3}",
+                t / ts,
+                o.drop_width / sim.effective_config().drop_diameter
+            ));
+        }
+    }
+    if error.is_some() || interrupted.is_some() {
+        // The last good state, where the cause can be looked at: one more panel of the
+        // particle PNG and one more VTK snapshot.
+        let mut shot = snapshot(&sim, ts);
+        shot.title = format!(
+            "t = {}, last state before the {}",
+            time_text(sim.state().time),
+            if error.is_some() {
+                "breakdown"
+            } else {
+                "interrupt"
+            }
+        );
+        shots.push(shot);
+        if let Some(d) = &opts.out_dir {
+            write_vtk(d, shots.len() - 1, &sim)?;
+        }
+    }
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
+    let result = RunResult {
+        series,
+        error,
+        wall_seconds: start.elapsed().as_secs_f64(),
+        steps: sim.state().step,
+        particles: sim.state().fluid.len(),
+        wall_reflections: sim.state().wall_reflections,
+        elliptical: sim.elliptical_semi_axes(),
+        interrupted,
+    };
+    if let Some(d) = &opts.out_dir {
+        let path = d.join("timeseries.csv");
+        at(csv::write_timeseries(&path, &result.series), "write", &path)?;
+        let path = d.join("width_height.png");
+        let t_last = sim.state().time;
+        let ended = match (&result.error, interrupted) {
+            (Some(_), _) => Some(("breakdown", t_last)),
+            (None, Some(t)) => Some(("interrupted", t)),
+            _ => None,
+        };
+        at(
+            plot_width_height_marked(
+                &path,
+                sim.effective_config(),
+                &[("".into(), &result.series)],
+                ended,
+            ),
+            "write",
+            &path,
+        )?;
+        let (field, _) = colour_field(&sim);
+        let path = d.join("particles.png");
+        at(
+            plot::particle_snapshots(
+                &path,
+                &particles_title(sim.effective_config(), field),
+                &shots,
+                field,
+                3,
+                (1700, 1250),
+            ),
+            "write",
+            &path,
+        )?;
+        let path = d.join("scene.toml");
+        at(
+            std::fs::write(&path, scene_record(cfg, sim.effective_config())),
+            "write",
+            &path,
+        )?;
+    }
+    Ok(result)
+}
+
+/// The title of `particles.png`: what is shown and the scene in a few words.
+fn particles_title(eff: &SceneConfig, field: &str) -> String {
+    let field = field.split(" [").next().unwrap_or(field);
+    match eff.scene {
+        viscosph::config::Scene::EllipticalDrop => format!(
+            "Elliptical drop ({}, {} particles across), coloured by {field}",
+            eff.scheme, eff.particles_per_diameter
+        ),
+        viscosph::config::Scene::Channel => format!(
+            "{} channel, H = {} mm, g = {} m/s2 ({}, {} across): coloured by {field}",
+            eff.rheology,
+            1e3 * eff.channel_width,
+            eff.body_force,
+            eff.scheme,
+            eff.particles_per_diameter
+        ),
+        _ => format!(
+            "{} drop, D = {} mm, V = {} m/s, plate at {} deg ({}): coloured by {field}",
+            eff.rheology,
+            1e3 * eff.drop_diameter,
+            eff.impact_velocity,
+            eff.plate_inclination,
+            eff.scheme
+        ),
+    }
+}
+
+/// W* = width/D and H* = height/D against t* = t V/D, one line per labelled series. For the
+/// elliptical drop, the scene's own scales: width and height over its initial diameter 2R,
+/// against t in ms.
+pub fn plot_width_height(
+    path: &Path,
+    cfg: &SceneConfig,
+    runs: &[(String, &[(f64, Outputs)])],
+) -> Result<(), Box<dyn std::error::Error>> {
+    plot_width_height_marked(path, cfg, runs, None)
+}
+
+/// [`plot_width_height`], with a note in the titles when the run ended early: `ended` is
+/// why ("breakdown", "interrupted") and the time of the last good state.
+pub fn plot_width_height_marked(
+    path: &Path,
+    cfg: &SceneConfig,
+    runs: &[(String, &[(f64, Outputs)])],
+    ended: Option<(&str, f64)>,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let elliptical = cfg.scene == viscosph::config::Scene::EllipticalDrop;
+    let (d, ts) = if elliptical {
+        (2.0 * viscosph::scene::elliptical_drop::RADIUS, 1e-3)
+    } else {
+        (cfg.drop_diameter, time_scale(cfg))
+    };
+    let mk = |f: fn(&Outputs) -> f64| {
+        runs.iter()
+            .map(|(label, s)| plot::Series {
+                label: label.clone(),
+                points: s.iter().map(|(t, o)| (t / ts, f(o) / d)).collect(),
+            })
+            .collect::<Vec<_>>()
+    };
+    let note = match ended {
+        Some(("breakdown", t)) => format!(" (breakdown after t = {})", time_text(t)),
+        Some((why, t)) => format!(" ({why} at t = {})", time_text(t)),
+        None => String::new(),
+    };
+    let (x_label, w_title, h_title, w_label, h_label) = if elliptical {
+        (
+            "t [ms]".to_string(),
+            "extent along x / 2R (R = 1 m)".to_string(),
+            "extent along y / 2R".to_string(),
+            "width / 2R [-]".to_string(),
+            "height / 2R [-]".to_string(),
+        )
+    } else {
+        (
+            format!("t* = t V / D [-]   (D/V = {})", time_text(ts)),
+            format!("width W* = W / D (D = {} mm)", 1e3 * d),
+            "height H* = H / D".to_string(),
+            "W* [-]".to_string(),
+            "H* [-]".to_string(),
+        )
+    };
+    plot::line_panels(
+        path,
+        &[
+            plot::Panel {
+                title: w_title + &note,
+                x_label: x_label.clone(),
+                y_label: w_label,
+                series: mk(|o| o.drop_width),
+                log: (false, false),
+            },
+            plot::Panel {
+                title: h_title + &note,
+                x_label,
+                y_label: h_label,
+                series: mk(|o| o.drop_height),
+                log: (false, false),
+            },
+        ],
+        2,
+        (1400, 600),
+    )
+}

@@ -1,0 +1,149 @@
+//! Smoke tests of `viscosph bench` at its `--quick` settings: every subcommand runs and writes
+//! outputs of the right structure with sane values. Speed is not asserted here (that is what the
+//! benchmark itself reports).
+
+use std::path::Path;
+use std::process::Command;
+
+fn bench(args: &[&str], out: &Path) -> String {
+    let o = Command::new(env!("CARGO_BIN_EXE_viscosph"))
+        .arg("bench")
+        .args(args)
+        .arg("--quick")
+        .arg("--out")
+        .arg(out)
+        .output()
+        .unwrap();
+    assert!(
+        o.status.success(),
+        "bench {args:?}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    String::from_utf8(o.stdout).unwrap()
+}
+
+fn csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header = lines.next().unwrap().split(',').map(String::from).collect();
+    let rows = lines
+        .map(|l| l.split(',').map(String::from).collect())
+        .collect();
+    (header, rows)
+}
+
+fn png(path: &Path) {
+    let b = std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    assert_eq!(&b[1..4], b"PNG", "{}", path.display());
+}
+
+#[test]
+fn drop_throughput_rheologies_and_report() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path();
+
+    bench(&["drop"], out);
+    let (h, rows) = csv(&out.join("drop.csv"));
+    assert_eq!((h[0].as_str(), h[7].as_str()), ("case", "wall_reflections"));
+    assert_eq!(rows.len(), 6, "two cases at three resolutions");
+    for r in &rows {
+        let tp: f64 = r[5].parse().unwrap();
+        let diff: f64 = r[6].parse().unwrap();
+        assert!(tp > 0.0 && diff.is_finite() && diff >= 0.0, "{r:?}");
+    }
+    png(&out.join("drop.png"));
+
+    let md = bench(&["throughput"], out);
+    assert!(
+        md.contains("cost ratio") && md.contains("FMU overhead"),
+        "{md}"
+    );
+    let (_, rows) = csv(&out.join("throughput.csv"));
+    let speeds: Vec<f64> = rows
+        .iter()
+        .filter(|r| r[2] == "1" || r[2] == "2")
+        .map(|r| r[3].parse().unwrap())
+        .collect();
+    assert_eq!(speeds.len(), 8, "two cases, two sizes, two thread counts");
+    assert!(speeds.iter().all(|s| *s > 0.0));
+
+    let md = bench(&["rheologies"], out);
+    for r in viscosph::config::RHEOLOGIES {
+        assert!(md.contains(&format!("| {} |", r.0)), "{} missing", r.0);
+    }
+    png(&out.join("rheologies.png"));
+
+    let docs = out.join("docs");
+    let o = Command::new(env!("CARGO_BIN_EXE_viscosph"))
+        .args(["bench", "report", "--out"])
+        .arg(out)
+        .arg("--docs")
+        .arg(&docs)
+        .output()
+        .unwrap();
+    assert!(o.status.success());
+    let report = std::fs::read_to_string(docs.join("benchmarks.md")).unwrap();
+    assert!(report.contains("machine:") && report.contains("measured on commit:"));
+    let head = String::from_utf8(
+        Command::new("git")
+            .args(["describe", "--always", "--dirty", "--abbrev=7"])
+            .output()
+            .unwrap()
+            .stdout,
+    )
+    .unwrap();
+    assert!(
+        report.contains(&format!("Measured on commit {}.", head.trim())),
+        "the sections name the commit they were measured on"
+    );
+    assert!(report.contains("| newtonian |") && report.contains("cost ratio"));
+    assert!(docs.join("bench/rheologies.png").exists());
+}
+
+#[test]
+fn accuracy_and_stability() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path();
+
+    bench(&["accuracy"], out);
+    let (h, rows) = csv(&out.join("accuracy.csv"));
+    assert_eq!(
+        h,
+        ["problem", "scheme", "resolution", "wall_seconds", "error"]
+    );
+    for problem in ["drop_newtonian", "drop_oldroyd_b", "elliptical_drop"] {
+        for scheme in ["wcsph", "pdri"] {
+            let errs: Vec<f64> = rows
+                .iter()
+                .filter(|r| r[0] == problem && r[1].starts_with(scheme))
+                .map(|r| r[4].parse().unwrap())
+                .collect();
+            assert!(!errs.is_empty(), "{problem} {scheme}");
+            assert!(
+                errs.iter().all(|e| e.is_finite() && *e >= 0.0 && *e < 1.0),
+                "{problem} {scheme}: {errs:?}"
+            );
+        }
+    }
+    // On the drops, the coarsest run is the furthest from the extrapolated answer.
+    for problem in ["drop_newtonian", "drop_oldroyd_b"] {
+        let errs: Vec<f64> = rows
+            .iter()
+            .filter(|r| r[0] == problem && r[1] == "wcsph")
+            .map(|r| r[4].parse().unwrap())
+            .collect();
+        assert!(errs[0] > errs[errs.len() - 1], "{problem}: {errs:?}");
+    }
+    png(&out.join("accuracy.png"));
+
+    let md = bench(&["stability"], out);
+    assert!(md.contains("largest stable De"));
+    let (h, rows) = csv(&out.join("stability.csv"));
+    assert_eq!(h[5], "stable");
+    assert!(rows
+        .iter()
+        .all(|r| ["stable", "broken", "not_run"].contains(&r[5].as_str())));
+    assert!(rows.iter().any(|r| r[5] == "stable"));
+    png(&out.join("stability_de_wcsph.png"));
+    png(&out.join("stability_beta.png"));
+}

@@ -1,0 +1,379 @@
+//! King & Lind 2021's mirror particles (section III.C) for a straight plate of any inclination,
+//! built in the plate's own frame.
+//!
+//! The plate passes through `origin` with unit tangent t and unit normal n into the fluid. Every
+//! fluid particle at a distance 0 < d < r_s from the plate (King's code: r_s = 3h, the kernel
+//! support) gets a mirror at `x_m = x_i - 2 d n`: x_i - x_m is perpendicular to the plate and
+//! bisected by it. Mirror values:
+//! * velocity `u_m = 2 u_wall - u_i` (no slip: the mean of a particle and its mirror, the value
+//!   at the plate, is u_wall);
+//! * pressure `p_m = p_i` (Neumann) plus, optionally, the hydrostatic correction
+//!   `rho g . (x_m - x_i)` of King's newer code, so a fluid at rest sees a continued hydrostatic
+//!   field;
+//! * polymer stress: see [`StressMirror`].
+//!
+//! In the ISPH linear systems (`scheme::ppe`) the mirrors are ghosts linked to their parents:
+//! pressure sign +1 with offsets [`pressure_offsets`], velocity sign -1 with offset 2 u_wall.
+//! Particles on the wrong side (d <= 0) get no mirror; putting them back (King's code reflects
+//! them across the wall with [`MirrorPlate::reflect`]) is the scheme's job.
+
+use crate::{Mat2, Vec2};
+
+/// How a mirror's polymer stress follows from its parent's.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum StressMirror {
+    /// `tau_m = tau_i`. The extension consistent with the no-slip velocity: near a no-slip wall
+    /// the flow is a shear u_t ~ y (plus extension vanishing at the wall), whose mirrored field
+    /// `2 u_wall - u(R x)` has the *same* shear rate, so the stress (a function of the shear
+    /// rate) is even across the wall, shear component included. With it a uniform shear stress
+    /// exerts no force on the near-wall particles, as it must (test
+    /// `uniform_shear_stress_exerts_no_force_near_the_wall`).
+    #[default]
+    NoSlip,
+    /// `tau_m = R tau_i R` with `R = I - 2 n n^T`: the stress reflected in the wall's frame
+    /// (in (t, n) components, the shear component changes sign). Symmetric and involutive; it
+    /// is the extension of a symmetry plane (free slip). At a no-slip wall it makes the shear
+    /// stress odd across the wall, so a uniform shear exerts a spurious tangential force of
+    /// order tau / dr on the first rows of particles (measured in the test above). King's code
+    /// instead flips the whole normal row in the wall frame, which is not symmetric.
+    Reflected,
+}
+
+/// A straight plate for mirror particles.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MirrorPlate {
+    /// A point of the plate.
+    pub origin: Vec2,
+    /// Unit tangent.
+    pub t: Vec2,
+    /// Unit normal into the fluid.
+    pub n: Vec2,
+    /// Velocity of the plate.
+    pub u_wall: Vec2,
+    /// Mirror reach r_s (King's code: 3h).
+    pub reach: f64,
+}
+
+impl MirrorPlate {
+    /// A plate through `origin` with unit tangent `t` and unit normal `n` into the fluid.
+    pub fn new(origin: Vec2, t: Vec2, n: Vec2, u_wall: Vec2, reach: f64) -> Self {
+        assert!(
+            (t.norm() - 1.0).abs() < 1e-12
+                && (n.norm() - 1.0).abs() < 1e-12
+                && t.dot(&n).abs() < 1e-12,
+            "t and n must be orthonormal"
+        );
+        assert!(reach > 0.0);
+        Self {
+            origin,
+            t,
+            n,
+            u_wall,
+            reach,
+        }
+    }
+
+    /// The drop scenes' convention (as `boundary::plate::Plate`): inclined by `deg` degrees,
+    /// downhill tangent (cos a, -sin a), normal into the fluid (sin a, cos a).
+    pub fn inclined(origin: Vec2, deg: f64, u_wall: Vec2, reach: f64) -> Self {
+        let a = deg.to_radians();
+        Self::new(
+            origin,
+            Vec2::new(a.cos(), -a.sin()),
+            Vec2::new(a.sin(), a.cos()),
+            u_wall,
+            reach,
+        )
+    }
+
+    /// Signed distance from the plate, positive on the fluid side.
+    #[inline]
+    pub fn distance(&self, x: &Vec2) -> f64 {
+        (x - self.origin).dot(&self.n)
+    }
+
+    /// Mirror image of a point across the plate.
+    #[inline]
+    pub fn reflect(&self, x: &Vec2) -> Vec2 {
+        x - 2.0 * self.distance(x) * self.n
+    }
+
+    /// No-slip mirror velocity, `2 u_wall - u`.
+    #[inline]
+    pub fn mirror_velocity(&self, u: &Vec2) -> Vec2 {
+        2.0 * self.u_wall - u
+    }
+
+    /// `R s R` with `R = I - 2 n n^T`.
+    #[inline]
+    pub fn reflect_tensor(&self, s: &Mat2) -> Mat2 {
+        let r = Mat2::identity() - 2.0 * self.n * self.n.transpose();
+        r * s * r
+    }
+
+    /// Mirror polymer stress.
+    #[inline]
+    pub fn mirror_stress(&self, s: &Mat2, mode: StressMirror) -> Mat2 {
+        match mode {
+            StressMirror::NoSlip => *s,
+            StressMirror::Reflected => self.reflect_tensor(s),
+        }
+    }
+}
+
+/// Mirror points and their fluid parents (ascending parent order).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Mirrors {
+    pub x: Vec<Vec2>,
+    pub parent: Vec<u32>,
+}
+
+/// A mirror for every fluid particle with 0 < d < reach, in ascending particle order.
+pub fn build(plate: &MirrorPlate, x: &[Vec2]) -> Mirrors {
+    let mut m = Mirrors::default();
+    for (i, p) in x.iter().enumerate() {
+        let d = plate.distance(p);
+        if d > 0.0 && d < plate.reach {
+            m.x.push(plate.reflect(p));
+            m.parent.push(i as u32);
+        }
+    }
+    m
+}
+
+/// Mirror velocities from the fluid velocities.
+pub fn velocities(plate: &MirrorPlate, m: &Mirrors, u: &[Vec2]) -> Vec<Vec2> {
+    m.parent
+        .iter()
+        .map(|&i| plate.mirror_velocity(&u[i as usize]))
+        .collect()
+}
+
+/// Mirror polymer stresses from the fluid stresses.
+pub fn stresses(plate: &MirrorPlate, m: &Mirrors, tau: &[Mat2], mode: StressMirror) -> Vec<Mat2> {
+    m.parent
+        .iter()
+        .map(|&i| plate.mirror_stress(&tau[i as usize], mode))
+        .collect()
+}
+
+/// Hydrostatic pressure offsets `rho g . (x_m - x_i)` (the PPE ghost offsets; zeros for a plain
+/// Neumann condition).
+pub fn pressure_offsets(m: &Mirrors, x: &[Vec2], rho: f64, g: Vec2) -> Vec<f64> {
+    m.parent
+        .iter()
+        .zip(&m.x)
+        .map(|(&i, xm)| rho * g.dot(&(xm - x[i as usize])))
+        .collect()
+}
+
+/// Mirror pressures `p_i + offset`.
+pub fn pressures(m: &Mirrors, p: &[f64], offsets: &[f64]) -> Vec<f64> {
+    m.parent
+        .iter()
+        .zip(offsets)
+        .map(|(&i, o)| p[i as usize] + o)
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kernel::{Kernel, QuinticSpline};
+    use crate::neighbors::{CellGrid, NeighborList};
+
+    const ANGLES: [f64; 6] = [0.0, 17.0, 30.0, 45.0, 90.0, 133.0];
+
+    fn points() -> Vec<Vec2> {
+        (0..40)
+            .map(|k| {
+                Vec2::new(
+                    0.013 * k as f64 - 0.2,
+                    0.007 * ((k * 7) % 11) as f64 + 0.001,
+                )
+            })
+            .collect()
+    }
+
+    #[test]
+    fn mirror_of_a_mirror_is_the_particle_and_the_wall_bisects_them() {
+        for deg in ANGLES {
+            let plate = MirrorPlate::inclined(Vec2::new(0.03, -0.01), deg, Vec2::zeros(), 1.0);
+            for x in points() {
+                let m = plate.reflect(&x);
+                assert!((plate.reflect(&m) - x).norm() < 1e-15);
+                assert!((plate.distance(&m) + plate.distance(&x)).abs() < 1e-15);
+                assert!(plate.distance(&(0.5 * (x + m))).abs() < 1e-15);
+                assert!((x - m).dot(&plate.t).abs() < 1e-15);
+            }
+        }
+    }
+
+    #[test]
+    fn no_slip_velocity_at_the_wall_midpoint_is_the_wall_velocity() {
+        for deg in ANGLES {
+            let uw = Vec2::new(0.4, -0.25);
+            let plate = MirrorPlate::inclined(Vec2::zeros(), deg, uw, 1.0);
+            for (k, x) in points().iter().enumerate() {
+                let u = Vec2::new((k as f64).sin(), 0.3 * k as f64) + x;
+                let um = plate.mirror_velocity(&u);
+                assert!((0.5 * (u + um) - uw).norm() < 1e-15);
+                assert!((plate.mirror_velocity(&um) - u).norm() < 1e-15);
+            }
+        }
+    }
+
+    #[test]
+    fn reflected_stress_is_symmetric_involutive_and_keeps_invariants() {
+        let s = Mat2::new(3.0, -1.25, -1.25, 0.5);
+        for deg in ANGLES {
+            let plate = MirrorPlate::inclined(Vec2::zeros(), deg, Vec2::zeros(), 1.0);
+            let r = plate.reflect_tensor(&s);
+            assert!((r - r.transpose()).norm() < 1e-15);
+            assert!((plate.reflect_tensor(&r) - s).norm() < 1e-14);
+            assert!((r.trace() - s.trace()).abs() < 1e-14);
+            assert!((r.determinant() - s.determinant()).abs() < 1e-13);
+            // In the wall frame the normal components are kept and the shear flips.
+            let (t, n) = (plate.t, plate.n);
+            assert!((t.dot(&(r * t)) - t.dot(&(s * t))).abs() < 1e-14);
+            assert!((n.dot(&(r * n)) - n.dot(&(s * n))).abs() < 1e-14);
+            assert!((t.dot(&(r * n)) + t.dot(&(s * n))).abs() < 1e-14);
+            assert_eq!(plate.mirror_stress(&s, StressMirror::NoSlip), s);
+        }
+    }
+
+    #[test]
+    fn build_selects_particles_within_reach_and_hydrostatic_pressure_continues() {
+        let plate = MirrorPlate::inclined(Vec2::zeros(), 30.0, Vec2::zeros(), 0.05);
+        let x = points();
+        let m = build(&plate, &x);
+        let expect: Vec<u32> = (0..x.len() as u32)
+            .filter(|&i| {
+                let d = plate.distance(&x[i as usize]);
+                d > 0.0 && d < 0.05
+            })
+            .collect();
+        assert!(!expect.is_empty() && expect.len() < x.len());
+        assert_eq!(m.parent, expect);
+        // A fluid at rest: p(x) = p0 + rho g . x; the corrected mirror pressure is the same
+        // field at the mirror's position.
+        let (rho, g, p0) = (1000.0, Vec2::new(0.0, -9.81), 50.0);
+        let p: Vec<f64> = x.iter().map(|x| p0 + rho * g.dot(x)).collect();
+        let off = pressure_offsets(&m, &x, rho, g);
+        let pm = pressures(&m, &p, &off);
+        for (xm, pm) in m.x.iter().zip(&pm) {
+            assert!((pm - (p0 + rho * g.dot(xm))).abs() < 1e-10);
+        }
+        let u: Vec<Vec2> = x.iter().map(|x| Vec2::new(x.y, -x.x)).collect();
+        let um = velocities(&plate, &m, &u);
+        assert!(m
+            .parent
+            .iter()
+            .zip(&um)
+            .all(|(&i, v)| (v + u[i as usize]).norm() < 1e-15));
+    }
+
+    /// A uniform polymer shear stress (tau_tn = 1, first normal difference 4) on a lattice above
+    /// a plate at 30 degrees: the positive-form divergence (King & Lind 2021 eq. (20)),
+    /// `sum_j (tau_i + tau_j) grad W_ij V_j`, over fluid and mirror neighbours, must vanish at
+    /// every particle. With `NoSlip` mirrors it does (to round-off); with `Reflected` mirrors
+    /// the first rows feel a spurious tangential force of order tau / dr.
+    #[test]
+    fn uniform_shear_stress_exerts_no_force_near_the_wall() {
+        let dr = 0.01;
+        let k = QuinticSpline::new(1.3 * dr);
+        let plate = MirrorPlate::inclined(Vec2::zeros(), 30.0, Vec2::zeros(), k.radius());
+        let (t, n) = (plate.t, plate.n);
+        let x: Vec<Vec2> = (0..30 * 12)
+            .map(|q| ((q % 30) as f64 - 14.5) * dr * t + ((q / 30) as f64 + 0.5) * dr * n)
+            .collect();
+        let tau_wall = Mat2::new(4.0, 1.0, 1.0, 0.0); // (t, n) components
+        let frame = Mat2::from_columns(&[t, n]);
+        let tau = frame * tau_wall * frame.transpose();
+        let force = |mode: StressMirror| {
+            let m = build(&plate, &x);
+            let mut all = x.clone();
+            all.extend_from_slice(&m.x);
+            let mut taus = vec![tau; x.len()];
+            taus.extend(stresses(&plate, &m, &vec![tau; x.len()], mode));
+            let grid = CellGrid::build(&all, k.radius(), &crate::neighbors::Domain::OPEN);
+            let nl =
+                NeighborList::build(&grid, &all, &x, k.radius(), &crate::neighbors::Domain::OPEN);
+            (0..x.len())
+                .filter(|&i| x[i].dot(&t).abs() < 8.0 * dr && plate.distance(&x[i]) < 4.0 * dr)
+                .map(|i| {
+                    let mut f = Vec2::zeros();
+                    for &j in nl.of(i) {
+                        let j = j as usize;
+                        let xij = all[i] - all[j];
+                        f += dr * dr * (taus[i] + taus[j]) * (xij * k.dw_over_r(xij.norm()));
+                    }
+                    f.norm()
+                })
+                .fold(0.0, f64::max)
+        };
+        let even = force(StressMirror::NoSlip);
+        let odd = force(StressMirror::Reflected);
+        assert!(even < 1e-9 / dr, "{even}");
+        assert!(odd > 0.1 / dr, "{odd}");
+    }
+
+    /// A fluid layer at rest on a 30-degree plate: the PPE (King & Lind 2021 eq. (25)) with zero
+    /// right-hand side, mirrors carrying the hydrostatic offsets as Neumann ghosts, and the
+    /// hydrostatic value as Dirichlet data on the free rows (top and ends) returns the
+    /// hydrostatic field everywhere, the rows next to the plate included.
+    #[test]
+    fn ppe_with_mirrors_holds_the_hydrostatic_pressure() {
+        use crate::scheme::ppe::{
+            assemble_poisson, morris_coefficients, solve, GhostLink, SolverOptions,
+        };
+        let dr = 0.01;
+        let k = QuinticSpline::new(1.3 * dr);
+        let plate = MirrorPlate::inclined(Vec2::zeros(), 30.0, Vec2::zeros(), k.radius());
+        let (t, n) = (plate.t, plate.n);
+        let (cols, rows) = (40, 12);
+        let x: Vec<Vec2> = (0..cols * rows)
+            .map(|q| ((q % cols) as f64 - 19.5) * dr * t + ((q / cols) as f64 + 0.5) * dr * n)
+            .collect();
+        let (rho, g) = (1000.0, Vec2::new(0.0, -9.81));
+        let top = x.iter().map(|p| plate.distance(p)).fold(0.0, f64::max);
+        let exact = |p: &Vec2| rho * g.dot(&(p - (top * n)));
+        let m = build(&plate, &x);
+        let mut all = x.clone();
+        all.extend_from_slice(&m.x);
+        let grid = CellGrid::build(&all, k.radius(), &crate::neighbors::Domain::OPEN);
+        let nl = NeighborList::build(&grid, &all, &x, k.radius(), &crate::neighbors::Domain::OPEN);
+        let vol = vec![dr * dr; all.len()];
+        let coef = morris_coefficients(&all, &vol, &nl, &k, &crate::neighbors::Domain::OPEN, None);
+        let off = pressure_offsets(&m, &x, rho, g);
+        let ghosts = GhostLink {
+            parent: &m.parent,
+            sign: &[],
+            offset: &off,
+        };
+        let dirichlet: Vec<Option<f64>> = (0..x.len())
+            .map(|q| {
+                let (c, r) = (q % cols, q / cols);
+                (r >= rows - 3 || c < 3 || c >= cols - 3).then(|| exact(&x[q]))
+            })
+            .collect();
+        let sys = assemble_poisson(
+            x.len(),
+            &nl,
+            &coef,
+            &ghosts,
+            &dirichlet,
+            &vec![0.0; x.len()],
+        );
+        let mut p = vec![0.0; x.len()];
+        solve(&sys, &mut p, &SolverOptions::default()).unwrap();
+        let scale = rho * 9.81 * top;
+        for (pi, xi) in p.iter().zip(&x) {
+            assert!(
+                (pi - exact(xi)).abs() < 1e-7 * scale,
+                "{pi} vs {}",
+                exact(xi)
+            );
+        }
+    }
+}

@@ -1,0 +1,322 @@
+//! Artificial viscosity (Fang 2006 eqs. 30-37, Ren 2015 eq. 19) and the two artificial stresses
+//! against the tensile instability: Fang's principal-stress version (Fang 2006 eqs. 38-44, after
+//! Gray, Monaghan & Swift) and Ren's, keyed to the sign of the kernel's second derivative (Ren 2015
+//! eqs. 20a-20b, after Swegle et al.).
+
+use crate::config::ArtificialStressKind;
+use crate::kernel::Kernel;
+use crate::{Mat2, Vec2};
+
+/// Monaghan's artificial viscosity Pi_ij (Fang 2006 eqs. 31-37).
+///
+/// Sign convention: Fang writes eq. (30) as sigma_i/rho_i^2 + sigma_j/rho_j^2 + Pi_ij delta, but
+/// with sigma = -p I the viscous pressure must enter like p, i.e. as -Pi_ij delta in the stress
+/// form (Monaghan's -(p_i/rho_i^2 + p_j/rho_j^2 + Pi_ij)). We return Pi_ij >= 0 and the caller
+/// subtracts it; with Fang's literal sign the term would pull approaching particles together.
+#[inline]
+#[allow(clippy::too_many_arguments)]
+pub fn viscosity(
+    alpha: f64,
+    beta: f64,
+    h: f64,
+    c_mean: f64,
+    rho_mean: f64,
+    vij: &Vec2,
+    xij: &Vec2,
+    r2: f64,
+) -> f64 {
+    let vx = vij.dot(xij);
+    if vx >= 0.0 {
+        return 0.0; // eq. (32): receding pairs feel nothing
+    }
+    let phi = h * vx / (r2 + 0.01 * h * h); // eq. (33)
+    (-alpha * c_mean * phi + beta * phi * phi) / rho_mean // eq. (31)
+}
+
+/// Artificial stress tensor R of one particle from its total stress sigma (Fang 2006 eqs. 40-44):
+/// rotate to principal axes, take R' = -eps sigma'/rho^2 for each tensile (positive) principal
+/// stress, rotate back.
+///
+/// Fang writes the rotation with the angle theta of eq. (41), tan 2 theta = 2 sxy / (sxx - syy);
+/// only cos 2 theta and sin 2 theta enter eqs. (40), (43) and (44), and both are ratios of the
+/// stress components, so no trigonometric function is evaluated (the profile of the 80 per
+/// diameter drop spent 7 % of its time in atan2, sin and cos here). With d = ((sxx - syy)^2 +
+/// 4 sxy^2)^{1/2}: cos 2 theta = (sxx - syy)/d, sin 2 theta = 2 sxy/d, and eqs. (43)-(44) give the
+/// principal stresses (sxx + syy)/2 +- d/2; an isotropic stress (d = 0) takes theta = 0.
+#[inline]
+pub fn fang_stress(eps: f64, sigma: &Mat2, rho: f64) -> Mat2 {
+    if eps == 0.0 {
+        return Mat2::zeros();
+    }
+    let (sxx, syy, sxy) = (sigma[(0, 0)], sigma[(1, 1)], sigma[(0, 1)]);
+    let half_diff = 0.5 * (sxx - syy);
+    let radius = half_diff.hypot(sxy); // d / 2
+    let (cos2, sin2) = if radius > 0.0 {
+        (half_diff / radius, sxy / radius)
+    } else {
+        (1.0, 0.0)
+    };
+    let mean = 0.5 * (sxx + syy);
+    let (sp_xx, sp_yy) = (mean + radius, mean - radius); // eqs. (43)-(44)
+    let k = -eps / (rho * rho);
+    let rxx = if sp_xx > 0.0 { k * sp_xx } else { 0.0 }; // eq. (42)
+    let ryy = if sp_yy > 0.0 { k * sp_yy } else { 0.0 };
+    // eq. (40): R = Q diag(rxx, ryy) Q^T with cos^2 = (1 + cos 2t)/2, cos sin = sin 2t / 2.
+    let (r_mean, r_half) = (0.5 * (rxx + ryy), 0.5 * (rxx - ryy));
+    let xy = r_half * sin2;
+    Mat2::new(r_mean + r_half * cos2, xy, xy, r_mean - r_half * cos2)
+}
+
+/// Hessian of the kernel with respect to x_i, d2W_ij / dx_i^a dx_i^b, for the pair separation
+/// `xij` = x_i - x_j with |xij|^2 = `r2`: W'' e e^T + (W'/r)(I - e e^T) with e = xij/r (isotropic,
+/// W''(0) I, at r = 0).
+#[inline]
+pub fn kernel_hessian<K: Kernel>(kernel: &K, xij: &Vec2, r2: f64) -> Mat2 {
+    let r = r2.sqrt();
+    let d2 = kernel.d2w(r);
+    if r <= 1e-12 * kernel.h() {
+        return Mat2::identity() * d2;
+    }
+    let dw_r = kernel.dw_over_r(r);
+    let ee = xij * xij.transpose() / r2;
+    ee * (d2 - dw_r) + Mat2::identity() * dw_r
+}
+
+/// Ren's artificial stress S of one particle (Ren 2015 eq. 20b), component by component:
+/// S^ab = -b sigma^ab / rho^2 where (sum_j d2W_ij/dx^a dx^b) sigma^ab > 0, else 0. `hess_sum` is
+/// that sum over the particle's neighbours. Swegle et al. showed the instability grows where the
+/// stress and the kernel's second derivative have the same sign, in compression as in tension;
+/// Fang's version only acts on tension.
+#[inline]
+pub fn ren_stress(b: f64, sigma: &Mat2, rho: f64, hess_sum: &Mat2) -> Mat2 {
+    if b == 0.0 {
+        return Mat2::zeros();
+    }
+    let k = -b / (rho * rho);
+    let pick = |a: usize, c: usize| {
+        if hess_sum[(a, c)] * sigma[(a, c)] > 0.0 {
+            k * sigma[(a, c)]
+        } else {
+            0.0
+        }
+    };
+    let xy = pick(0, 1);
+    Mat2::new(pick(0, 0), xy, xy, pick(1, 1))
+}
+
+/// Intervals of the table of Ren's f^n over r in [0, 2h].
+const REN_TABLE: usize = 4096;
+
+/// The artificial stress against the tensile instability, resolved once: Fang 2006 eqs. (38)-(44)
+/// or Ren 2015 eqs. (20a)-(20b). Both add f_ij^n (R_i + R_j) to the pair term of the momentum
+/// equation with f_ij = W_ij / W(d0) (Fang eq. 39, Ren eq. 20a); they differ in R and in n.
+///
+/// Fang's n = 4 costs two multiplications. Ren's n = W(0)/W(d0) (1.8 for h = 1.5 d0) is not an
+/// integer, and `powf` on every pair took a fifth of a PDRI step; f^n depends on r only, so it is
+/// tabulated over r and interpolated linearly (error below 5e-7; f^n is 1 at r = d0).
+/// (Over r^2 it would save the square root, but W is not smooth in r^2 at r = 0.)
+#[derive(Debug, Clone)]
+pub struct ArtificialStress {
+    kind: ArtificialStressKind,
+    /// Fang's epsilon or Ren's b.
+    coef: f64,
+    /// The exponent n: 4 for Fang (section 3.2), W(0)/W(d0) for Ren (eq. 20a).
+    n: f64,
+    /// 1 / W(d0).
+    inv_w_d0: f64,
+    /// Ren: f^n at r = k 2h / REN_TABLE, k = 0..=REN_TABLE, and the index scale.
+    table: Vec<f64>,
+    per_r: f64,
+}
+
+impl ArtificialStress {
+    pub fn new<K: Kernel>(kernel: &K, kind: ArtificialStressKind, coef: f64, dx: f64) -> Self {
+        let w_d0 = kernel.w(dx);
+        let n = match kind {
+            ArtificialStressKind::Fang => 4.0,
+            ArtificialStressKind::Ren => kernel.w(0.0) / w_d0,
+        };
+        let radius = kernel.radius();
+        let table = if kind == ArtificialStressKind::Ren {
+            (0..=REN_TABLE)
+                .map(|k| (kernel.w(radius * k as f64 / REN_TABLE as f64) / w_d0).powf(n))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        Self {
+            kind,
+            coef,
+            n,
+            inv_w_d0: 1.0 / w_d0,
+            table,
+            per_r: REN_TABLE as f64 / radius,
+        }
+    }
+
+    /// Whether the term is there at all.
+    #[inline]
+    pub fn is_on(&self) -> bool {
+        self.coef > 0.0
+    }
+
+    /// Whether R needs the sum of kernel Hessians over the neighbours (Ren eq. 20b).
+    #[inline]
+    pub fn needs_hessian(&self) -> bool {
+        self.is_on() && self.kind == ArtificialStressKind::Ren
+    }
+
+    /// The exponent n.
+    pub fn exponent(&self) -> f64 {
+        self.n
+    }
+
+    /// R of one particle from its total stress, density and (Ren) Hessian sum.
+    #[inline]
+    pub fn of_particle(&self, sigma: &Mat2, rho: f64, hess: &Mat2) -> Mat2 {
+        match self.kind {
+            ArtificialStressKind::Fang => fang_stress(self.coef, sigma, rho),
+            ArtificialStressKind::Ren => ren_stress(self.coef, sigma, rho, hess),
+        }
+    }
+
+    /// f_ij^n for a pair with kernel value `w` at squared distance `r2` (inside the support).
+    #[inline]
+    pub fn pair_factor(&self, w: f64, r2: f64) -> f64 {
+        match self.kind {
+            ArtificialStressKind::Fang => {
+                let f = w * self.inv_w_d0;
+                let f2 = f * f;
+                f2 * f2
+            }
+            ArtificialStressKind::Ren => {
+                let x = r2.sqrt() * self.per_r;
+                let k = (x as usize).min(REN_TABLE - 1);
+                let t = x - k as f64;
+                self.table[k] + (self.table[k + 1] - self.table[k]) * t
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kernel::CubicSpline;
+
+    #[test]
+    fn kernel_hessian_matches_finite_differences() {
+        let k = CubicSpline::new(1.0);
+        let w = |p: Vec2| k.w(p.norm());
+        let e = 1e-4;
+        for p in [
+            Vec2::new(0.3, 0.2),
+            Vec2::new(-1.1, 0.5),
+            Vec2::new(0.2, -1.6),
+        ] {
+            let h = kernel_hessian(&k, &p, p.norm_squared());
+            for a in 0..2 {
+                for b in 0..2 {
+                    let (mut ea, mut eb) = (Vec2::zeros(), Vec2::zeros());
+                    ea[a] = e;
+                    eb[b] = e;
+                    let fd = (w(p + ea + eb) - w(p + ea - eb) - w(p - ea + eb) + w(p - ea - eb))
+                        / (4.0 * e * e);
+                    assert!(
+                        (h[(a, b)] - fd).abs() < 1e-5,
+                        "{a}{b}: {} vs {fd}",
+                        h[(a, b)]
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn ren_stress_follows_the_sign_of_hessian_times_stress() {
+        let sigma = Mat2::new(2.0, -1.0, -1.0, -3.0);
+        // Positive xx curvature with tension, negative yy with compression, xy same sign: all on.
+        let hess = Mat2::new(1.0, -0.5, -0.5, -2.0);
+        let s = ren_stress(0.8, &sigma, 2.0, &hess);
+        assert_eq!(s, sigma * (-0.8 / 4.0));
+        // Flip the curvature: all off (compression with positive curvature is stable).
+        assert_eq!(ren_stress(0.8, &sigma, 2.0, &(-hess)), Mat2::zeros());
+        assert_eq!(ren_stress(0.0, &sigma, 2.0, &hess), Mat2::zeros());
+    }
+
+    #[test]
+    fn artificial_stress_acts_only_on_tension() {
+        // Pure compression: no artificial stress.
+        let comp = Mat2::new(-3.0, 0.0, 0.0, -1.0);
+        assert_eq!(fang_stress(0.5, &comp, 1.0), Mat2::zeros());
+        // Uniaxial tension along x: R = -eps sigma / rho^2 along x only.
+        let ten = Mat2::new(4.0, 0.0, 0.0, -1.0);
+        let r = fang_stress(0.5, &ten, 2.0);
+        assert!((r[(0, 0)] + 0.5).abs() < 1e-14 && r[(1, 1)].abs() < 1e-14);
+        // Rotated tension: R is the rotated principal R, and is symmetric.
+        let a = 0.3f64;
+        let q = Mat2::new(a.cos(), -a.sin(), a.sin(), a.cos());
+        let rr = fang_stress(0.5, &(q * ten * q.transpose()), 2.0);
+        let expect = q * r * q.transpose();
+        assert!((rr - expect).norm() < 1e-12, "{rr} vs {expect}");
+    }
+
+    #[test]
+    fn artificial_stress_equals_fangs_trigonometric_form() {
+        // Fang eqs. (40)-(44) literally, with theta from eq. (41).
+        let literal = |eps: f64, sg: &Mat2, rho: f64| {
+            let (sxx, syy, sxy) = (sg[(0, 0)], sg[(1, 1)], sg[(0, 1)]);
+            let t = 0.5 * (2.0 * sxy).atan2(sxx - syy);
+            let (s, c) = t.sin_cos();
+            let spx = c * c * sxx + 2.0 * c * s * sxy + s * s * syy;
+            let spy = s * s * sxx - 2.0 * c * s * sxy + c * c * syy;
+            let f = |v: f64| if v > 0.0 { -eps * v / (rho * rho) } else { 0.0 };
+            let (rx, ry) = (f(spx), f(spy));
+            Mat2::new(
+                c * c * rx + s * s * ry,
+                c * s * (rx - ry),
+                c * s * (rx - ry),
+                s * s * rx + c * c * ry,
+            )
+        };
+        for sg in [
+            Mat2::new(3.0, 1.5, 1.5, -2.0),
+            Mat2::new(-1.0, 2.0, 2.0, -1.0),
+            Mat2::new(2.0, 0.0, 0.0, 2.0),
+            Mat2::new(-4.0, 0.3, 0.3, 1.0),
+            Mat2::new(0.5, -0.7, -0.7, 0.2),
+        ] {
+            let (a, b) = (fang_stress(0.3, &sg, 1.7), literal(0.3, &sg, 1.7));
+            assert!(
+                (a - b).norm() < 1e-14 * (1.0 + b.norm()),
+                "{sg}: {a} vs {b}"
+            );
+        }
+    }
+
+    #[test]
+    fn viscosity_only_for_approaching_pairs() {
+        let x = Vec2::new(1.0, 0.0);
+        assert_eq!(
+            viscosity(1.0, 2.0, 1.0, 10.0, 1.0, &Vec2::new(1.0, 0.0), &x, 1.0),
+            0.0
+        );
+        assert!(viscosity(1.0, 2.0, 1.0, 10.0, 1.0, &Vec2::new(-1.0, 0.0), &x, 1.0) > 0.0);
+    }
+
+    #[test]
+    fn ren_pair_factor_table_matches_the_power() {
+        let dx = 0.01;
+        let kernel = CubicSpline::new(1.5 * dx);
+        let art = ArtificialStress::new(&kernel, ArtificialStressKind::Ren, 0.8, dx);
+        // n = W(0)/W(d0) = 1.8 exactly for h = 1.5 d0 (Fang 2006 section 3.2 quotes the ratio).
+        assert!((art.exponent() - 1.8).abs() < 1e-12);
+        for k in 0..30011 {
+            let r = kernel.radius() * k as f64 / 30011.0;
+            let w = kernel.w(r);
+            let exact = (w / kernel.w(dx)).powf(1.8);
+            let table = art.pair_factor(w, r * r);
+            assert!((table - exact).abs() < 5e-7, "r = {r}: {table} vs {exact}");
+        }
+    }
+}

@@ -1,0 +1,33 @@
+//! Kernel values of the pairs inside the support, aligned with a CSR neighbour list: neighbour
+//! index, grad_i W_ij and W_ij, computed once per rate evaluation and read by the later passes
+//! (SPHinXsys's habit of caching W and grad W once per stage). Particle i's slots start at the
+//! list's offset of i; `len[i]` of them are used (the rest of i's list lies in the skin).
+
+use crate::neighbors::NeighborList;
+use crate::Vec2;
+
+#[derive(Debug, Clone, Default)]
+pub struct PairCache {
+    pub j: Vec<u32>,
+    pub grad: Vec<Vec2>,
+    pub w: Vec<f64>,
+    pub len: Vec<u32>,
+}
+
+impl PairCache {
+    /// Size the arrays for `list` (one slot per stored pair, one length per query particle).
+    pub fn resize_for(&mut self, list: &NeighborList) {
+        let n = list.pairs();
+        self.j.resize(n, 0);
+        self.grad.resize(n, Vec2::zeros());
+        self.w.resize(n, 0.0);
+        self.len.resize(list.len(), 0);
+    }
+
+    /// The cached slots of particle i: `start..start + len[i]`.
+    #[inline]
+    pub fn range(&self, list: &NeighborList, i: usize) -> std::ops::Range<usize> {
+        let start = list.offset(i);
+        start..start + self.len[i] as usize
+    }
+}

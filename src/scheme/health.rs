@@ -1,0 +1,89 @@
+//! Health of a weakly compressible state after a step: what makes a run stop with a message
+//! instead of returning garbage (non-finite values, density far from rho0, particles through a
+//! wall or out of the domain, fracture by the tensile instability).
+
+use super::params::Params;
+use crate::boundary::plate::Plate;
+use crate::config::ArtificialStressKind;
+use crate::particles::Fluid;
+use crate::rheology::Rheology;
+use rayon::prelude::*;
+
+/// A particle this far below a plate (in particle spacings) has gone through it.
+const PENETRATION_DEPTH: f64 = 0.5;
+/// Relative density deviation that stops a run.
+const MAX_DENSITY_DEVIATION: f64 = 0.3;
+/// Smallest number of particles per parallel task of this light pass.
+const MIN_TASK_LIGHT: usize = 1024;
+
+/// Health of a state after a step: the void fraction, or the cause of a breakdown.
+pub fn check_health<R: Rheology>(p: &Params, fl: &Fluid, walls: &[Plate]) -> Result<f64, String> {
+    let bad = (0..fl.len())
+        .into_par_iter()
+        .with_min_len(MIN_TASK_LIGHT)
+        .find_first(|&i| {
+            !(fl.x[i].iter().all(|x| x.is_finite())
+                && fl.v[i].iter().all(|x| x.is_finite())
+                && fl.rho[i].is_finite()
+                && (!R::ELASTIC || fl.conf[i].iter().all(|x| x.is_finite())))
+        });
+    if let Some(i) = bad {
+        return Err(format!(
+            "non-finite value (NaN or Inf) on fluid particle {i}"
+        ));
+    }
+    for i in 0..fl.len() {
+        let dev = fl.rho[i] / p.eos.rho0 - 1.0;
+        if dev.abs() > MAX_DENSITY_DEVIATION {
+            // The density variation is about (v / c)^2: name the sound speed that keeps it near
+            // 1 % for the fastest particle now (10 v), and never less than twice the current one.
+            let vmax = fl.v.iter().fold(0.0f64, |m, v| m.max(v.norm()));
+            let advice = (10.0 * vmax).max(2.0 * p.eos.c);
+            return Err(format!(
+                "density of particle {i} is {:.1} % off the reference density (limit {:.0} %): \
+                 the flow is too fast for the sound speed c = {} m/s (fastest particle {:.3} m/s); \
+                 set sound_speed to at least {:.0} m/s",
+                100.0 * dev,
+                100.0 * MAX_DENSITY_DEVIATION,
+                p.eos.c,
+                vmax,
+                advice.ceil()
+            ));
+        }
+        if fl.x[i].norm() > p.domain_radius {
+            return Err(format!(
+                "particle {i} escaped the domain (|x| = {:.3e} m)",
+                fl.x[i].norm()
+            ));
+        }
+        for pl in walls {
+            if pl.d(&fl.x[i]) < -PENETRATION_DEPTH * p.dx {
+                return Err(format!("particle {i} went through the plate"));
+            }
+        }
+    }
+    let voids = fluid_void_fraction(fl, walls.first(), p.dx);
+    if p.fracture_void_fraction > 0.0 && voids > p.fracture_void_fraction {
+        let knob = match p.art_kind {
+            ArtificialStressKind::Fang => "artificial_stress_epsilon",
+            ArtificialStressKind::Ren => "artificial_stress_b",
+        };
+        return Err(format!(
+            "fracture by the tensile instability: holes make up {:.1} % of the fluid's area \
+             (limit {:.1} %); raise {knob}",
+            100.0 * voids,
+            100.0 * p.fracture_void_fraction
+        ));
+    }
+    Ok(voids)
+}
+
+/// Void fraction of the fluid (see [`crate::health`]) on cells of two particle spacings, in the
+/// plate's frame when there is a plate.
+pub fn fluid_void_fraction(fl: &Fluid, plate: Option<&Plate>, dx: f64) -> f64 {
+    let pts: Vec<(f64, f64)> = match plate {
+        Some(pl) => fl.x.iter().map(|x| (pl.s(x), pl.d(x))).collect(),
+        None => fl.x.iter().map(|x| (x.x, x.y)).collect(),
+    };
+    crate::health::void_fraction(&pts, 2.0 * dx, plate.is_some())
+}

@@ -1,0 +1,428 @@
+//! The rate evaluation of the weakly compressible schemes: Fang 2006's WCSPH ([`super::wcsph`])
+//! and Ren 2015's PDRI-SPH ([`super::pdri`]) discretise the same equations the same way (Fang
+//! eqs. 23, 26, 27 are Ren eqs. 15, 13, 14; the artificial viscosity Fang eqs. 30-37 is Ren
+//! eq. 19). They differ in the wall model and the artificial stress (values held by one
+//! [`WcCore`]), and in the time integration and the density reinitialisation (in the schemes).
+//!
+//! One rate evaluation ([`WcCore::rates`]) runs:
+//! 1. virtual velocities: each wall ([`crate::boundary::Boundary`]) fills its particles';
+//! 2. fluid pass 1 (a gather): pair geometry cached for pass 2 ([`crate::operators::pairs`]),
+//!    velocity gradient and continuity ([`crate::operators::kinematics`]), pressure from the
+//!    equation of state, the stress ([`crate::operators::stress::assemble`]) and, for Ren's
+//!    artificial stress, the sum of kernel Hessians;
+//! 3. virtual stresses, filled by each wall, and their artificial stresses;
+//! 4. fluid pass 2 (a gather over the cached pairs): momentum with artificial viscosity and
+//!    artificial stress ([`crate::operators::artificial`]), plus Morris' viscous Laplacian when
+//!    EVSS is on; the part exerted by virtual particles is the wall force.
+//!
+//! Every pass is a gather over ascending neighbour indices, so results are bitwise independent of
+//! the thread count. Every pair vector goes through the domain ([`crate::neighbors::Domain`]), so
+//! the same code runs in periodic boxes.
+
+use super::params::Params;
+use crate::boundary::ghost::{GhostWall, WallModel};
+use crate::boundary::plate::Plate;
+use crate::boundary::Boundary;
+use crate::kernel::Kernel;
+use crate::neighbors::{CellGrid, NeighborList};
+use crate::operators::artificial::{self, ArtificialStress};
+use crate::operators::kinematics::Kinematics;
+use crate::operators::pairs::PairCache;
+use crate::operators::stress::{self, MORRIS_ETA2};
+use crate::particles::Fluid;
+use crate::rheology::{self, Evss, Rheology};
+use crate::{Mat2, Vec2};
+use rayon::prelude::*;
+
+/// Neighbour-list skin as a fraction of h.
+const SKIN: f64 = 0.25;
+/// Smallest number of particles per parallel task: below it the work of a task costs less than
+/// handing it to another thread. Light passes (a few flops per particle) take many more.
+pub(crate) const MIN_TASK: usize = 64;
+pub(crate) const MIN_TASK_LIGHT: usize = 1024;
+
+/// One wall model of kind `model` (Fang's or Ren's virtual particles) per plate.
+pub fn ghost_walls<K: Kernel>(
+    kernel: K,
+    model: WallModel,
+    p: &Params,
+    plates: &[Plate],
+) -> Vec<Box<dyn Boundary>> {
+    plates
+        .iter()
+        .map(|_| Box::new(GhostWall::new(kernel, model, p.domain, p.dx)) as Box<dyn Boundary>)
+        .collect()
+}
+
+/// What one rate evaluation reports besides the per-particle rates.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct StageReport {
+    /// Force of the virtual (wall) particles on the fluid \[N/m\].
+    pub wall_on_fluid: Vec2,
+    /// Largest acceleration magnitude.
+    pub max_acc: f64,
+}
+
+/// The shared machinery of the weakly compressible schemes for kernel `K` and rheology `R`:
+/// neighbour lists, the walls' virtual particles, work arrays and the rate evaluation.
+pub struct WcCore<K: Kernel, R: Rheology> {
+    pub kernel: K,
+    pub model: R,
+    pub p: Params,
+    art: ArtificialStress,
+    evss: Evss,
+    /// One wall model per plate of the state, in the same order.
+    walls: Vec<Box<dyn Boundary>>,
+    /// Virtual particle index range (after the fluid) of each wall.
+    wall_ranges: Vec<std::ops::Range<usize>>,
+    // Neighbour structures, rebuilt when particles (or walls) have moved more than half the skin.
+    built_x: Vec<Vec2>,
+    built_walls: Vec<f64>,
+    /// Neighbours (fluid and virtual) of every fluid particle.
+    nlist: NeighborList,
+    /// Neighbours of every virtual particle (only for Ren's artificial stress).
+    vlist: NeighborList,
+    // Work arrays over all particles (fluid first, then virtual).
+    all_x: Vec<Vec2>,
+    all_v: Vec<Vec2>,
+    all_rho: Vec<f64>,
+    all_sigma: Vec<Mat2>,
+    all_art: Vec<Mat2>,
+    /// Sum over neighbours of the kernel Hessian (Ren eq. 20b), when needed.
+    all_hess: Vec<Mat2>,
+    /// Viscosity of the Laplacian viscous term (read with EVSS only).
+    all_mu: Vec<f64>,
+    /// m / rho of every particle.
+    all_vol: Vec<f64>,
+    /// sigma / rho^2 of every particle (Fang 2006 eq. 27).
+    all_sr2: Vec<Mat2>,
+    pairs: PairCache,
+    /// Polymer stress of fluid particles (empty for inelastic models); from pass 1 on, with EVSS,
+    /// the elastic stress as it enters sigma (Phi and its trace term), which is what the wall's
+    /// zero-normal-elastic-stress condition removes.
+    tau_p: Vec<Mat2>,
+    // Fluid rates of the last evaluation.
+    pub kappa: Vec<Mat2>,
+    pub drho: Vec<f64>,
+    pub acc: Vec<Vec2>,
+    wall_acc: Vec<Vec2>,
+}
+
+impl<K: Kernel, R: Rheology> WcCore<K, R> {
+    /// `walls` holds one wall model per plate of the state, in the state's order.
+    pub fn new(kernel: K, model: R, p: Params, walls: Vec<Box<dyn Boundary>>) -> Self {
+        let art = ArtificialStress::new(&kernel, p.art_kind, p.art_coef, p.dx);
+        let evss = Evss::new(&model, p.evss_alpha);
+        Self {
+            kernel,
+            model,
+            p,
+            art,
+            evss,
+            walls,
+            wall_ranges: Vec::new(),
+            built_x: Vec::new(),
+            built_walls: Vec::new(),
+            nlist: NeighborList::default(),
+            vlist: NeighborList::default(),
+            all_x: Vec::new(),
+            all_v: Vec::new(),
+            all_rho: Vec::new(),
+            all_sigma: Vec::new(),
+            all_art: Vec::new(),
+            all_hess: Vec::new(),
+            all_mu: Vec::new(),
+            all_vol: Vec::new(),
+            all_sr2: Vec::new(),
+            pairs: PairCache::default(),
+            tau_p: Vec::new(),
+            kappa: Vec::new(),
+            drho: Vec::new(),
+            acc: Vec::new(),
+            wall_acc: Vec::new(),
+        }
+    }
+
+    /// Whether the viscous force goes through Morris' Laplacian (EVSS, or chosen).
+    fn laplacian(&self) -> bool {
+        self.evss.is_on() || self.p.viscous_laplacian
+    }
+
+    fn search_radius(&self) -> f64 {
+        self.kernel.radius() + SKIN * self.kernel.h()
+    }
+
+    /// Rebuild the neighbour lists (and grow the walls) if any particle or wall moved more than
+    /// half the skin since the last build.
+    pub fn refresh_neighbors(&mut self, x: &[Vec2], plates: &mut [Plate]) {
+        let half_skin = 0.5 * SKIN * self.kernel.h();
+        let half_skin2 = half_skin * half_skin;
+        let dom = self.p.domain;
+        let stale = self.built_x.len() != x.len()
+            || self.built_walls.len() != plates.len()
+            || plates
+                .iter()
+                .zip(&self.built_walls)
+                .any(|(pl, d)| (pl.displacement - d).abs() > half_skin)
+            || x.par_iter()
+                .zip(self.built_x.par_iter())
+                .with_min_len(MIN_TASK_LIGHT)
+                .any(|(a, b)| dom.delta(a, b).norm_squared() > half_skin2);
+        if !stale {
+            return;
+        }
+        let radius = self.search_radius();
+        let nf = x.len();
+        self.all_x.clear();
+        self.all_x.extend_from_slice(x);
+        self.wall_ranges.clear();
+        if !self.walls.is_empty() {
+            // Walls interpolate from fluid only.
+            let fluid_grid = CellGrid::build(x, radius, &dom);
+            for (wall, plate) in self.walls.iter_mut().zip(plates.iter_mut()) {
+                let start = self.all_x.len();
+                wall.place(plate, x, &fluid_grid, radius, &mut self.all_x);
+                self.wall_ranges.push(start..self.all_x.len());
+            }
+        }
+        let grid = CellGrid::build(&self.all_x, radius, &dom);
+        self.nlist = NeighborList::build(&grid, &self.all_x, x, radius, &dom);
+        self.vlist = if self.art.needs_hessian() {
+            NeighborList::build(&grid, &self.all_x, &self.all_x[nf..], radius, &dom)
+        } else {
+            NeighborList::default()
+        };
+        self.built_x = x.to_vec();
+        self.built_walls = plates.iter().map(|p| p.displacement).collect();
+        let n = self.all_x.len();
+        let rho0 = self.p.eos.rho0;
+        self.all_v.resize(n, Vec2::zeros());
+        self.all_rho.resize(n, rho0);
+        self.all_rho[nf..].fill(rho0);
+        self.all_vol.clear();
+        self.all_sigma.resize(n, Mat2::zeros());
+        self.all_art.resize(n, Mat2::zeros());
+        self.all_hess.resize(n, Mat2::zeros());
+        // Virtual particles carry the viscosity of a fluid at rest (read by the Laplacian only,
+        // that is with EVSS, which acts only on elastic models, whose solvent viscosity does not
+        // depend on the shear rate).
+        let mu = self
+            .evss
+            .viscous_viscosity(self.model.solvent_viscosity(&Mat2::zeros()));
+        self.all_mu.resize(n, mu);
+        self.all_mu[nf..].fill(mu);
+    }
+
+    /// Fluid neighbours (and virtual ones, index >= number of fluid particles) of fluid particle
+    /// `i` as of the last rebuild, ascending; a superset of those inside the support.
+    #[inline]
+    pub fn neighbors_of(&self, i: usize) -> &[u32] {
+        self.nlist.of(i)
+    }
+
+    /// Hessian sums of the virtual particles (Ren eq. 20b), from `vlist`.
+    fn virtual_hessians(&mut self, nf: usize) {
+        if !self.art.needs_hessian() || self.all_x.len() == nf {
+            return;
+        }
+        let (kernel, ax, vlist, dom) = (&self.kernel, &self.all_x, &self.vlist, &self.p.domain);
+        let r2max = kernel.radius().powi(2);
+        self.all_hess[nf..]
+            .par_iter_mut()
+            .with_min_len(MIN_TASK)
+            .enumerate()
+            .for_each(|(k, h)| {
+                let xi = ax[nf + k];
+                let mut sum = Mat2::zeros();
+                for &j in vlist.of(k) {
+                    let ju = j as usize;
+                    if ju == nf + k {
+                        continue;
+                    }
+                    let xij = dom.delta(&xi, &ax[ju]);
+                    let r2 = xij.norm_squared();
+                    if r2 < r2max {
+                        sum += artificial::kernel_hessian(kernel, &xij, r2);
+                    }
+                }
+                *h = sum;
+            });
+    }
+
+    /// One rate evaluation at fluid state `fl` with the walls `plates`: fills kappa, drho, acc
+    /// (and the wall part).
+    pub fn rates(&mut self, fl: &Fluid, plates: &[Plate]) -> StageReport {
+        let nf = fl.len();
+        self.all_x[..nf].copy_from_slice(&fl.x);
+        self.all_v[..nf].copy_from_slice(&fl.v);
+        self.all_rho[..nf].copy_from_slice(&fl.rho);
+        // Virtual particles keep rho0, so only fluid volumes change.
+        self.all_vol
+            .resize(self.all_rho.len(), fl.mass / self.p.eos.rho0);
+        for (v, r) in self.all_vol[..nf].iter_mut().zip(&fl.rho) {
+            *v = fl.mass / r;
+        }
+        for ((wall, plate), range) in self.walls.iter().zip(plates).zip(&self.wall_ranges) {
+            wall.fill_velocities(plate, fl, &mut self.all_v[range.clone()]);
+        }
+        self.virtual_hessians(nf);
+        if R::ELASTIC {
+            let model = &self.model;
+            self.tau_p.resize(nf, Mat2::zeros());
+            self.tau_p
+                .par_iter_mut()
+                .zip(fl.conf.par_iter())
+                .with_min_len(MIN_TASK_LIGHT)
+                .for_each(|(t, a)| *t = model.polymer_stress(a));
+        }
+        self.pass1(fl);
+        if R::ELASTIC && self.evss.is_on() {
+            let evss = self.evss;
+            self.tau_p
+                .par_iter_mut()
+                .zip(self.kappa.par_iter())
+                .with_min_len(MIN_TASK_LIGHT)
+                .for_each(|(t, k)| *t = stress::evss_elastic_part(&evss, t, k));
+        }
+        {
+            let (fsig, vsig) = self.all_sigma.split_at_mut(nf);
+            for ((wall, plate), range) in self.walls.iter().zip(plates).zip(&self.wall_ranges) {
+                let out = &mut vsig[range.start - nf..range.end - nf];
+                wall.fill_stresses(plate, fl, fsig, &self.tau_p, out);
+            }
+        }
+        {
+            let (art, rho0) = (&self.art, self.p.eos.rho0);
+            let (vsig, vhess) = (&self.all_sigma[nf..], &self.all_hess[nf..]);
+            self.all_art[nf..]
+                .par_iter_mut()
+                .with_min_len(MIN_TASK)
+                .enumerate()
+                .for_each(|(k, a)| *a = art.of_particle(&vsig[k], rho0, &vhess[k]));
+        }
+        self.all_sr2.resize(self.all_sigma.len(), Mat2::zeros());
+        self.all_sr2
+            .par_iter_mut()
+            .zip(self.all_sigma.par_iter().zip(self.all_rho.par_iter()))
+            .with_min_len(MIN_TASK_LIGHT)
+            .for_each(|(o, (sg, r))| *o = sg / (r * r));
+        self.pass2(fl)
+    }
+
+    /// The time-step limits of Fang 2006 eqs. (51)-(53), each times `factor`: sound (with the
+    /// fastest particle's speed added when `with_flow_speed`), force and viscous diffusion, plus
+    /// the relaxation time for the explicit conformation update. The viscous limit counts the
+    /// EVSS added viscosity, which the Laplacian carries on top of the physical one.
+    pub fn stable_dt(
+        &self,
+        fl: &Fluid,
+        report: &StageReport,
+        factor: f64,
+        with_flow_speed: bool,
+    ) -> f64 {
+        let h = self.kernel.h();
+        let vmax = if with_flow_speed {
+            fl.v.iter().fold(0.0f64, |m, v| m.max(v.norm()))
+        } else {
+            0.0
+        };
+        let nu = (self.model.max_viscosity() + self.evss.added_viscosity()) / self.p.eos.rho0;
+        let mut dt = h / (self.p.eos.c + vmax); // eq. (51)
+        if report.max_acc > 0.0 {
+            dt = dt.min((h / report.max_acc).sqrt()); // eq. (52)
+        }
+        dt = dt.min(0.5 * h * h / nu); // eq. (53)
+        dt *= factor;
+        if R::ELASTIC {
+            dt = dt.min(factor * self.model.relaxation_time());
+        }
+        dt
+    }
+
+    /// One explicit update `out = base + dt * rates` of every evolved field, with the rates of
+    /// the last [`Core::rates`] call: positions with the velocities `vel`, velocities with the
+    /// accelerations, densities with the continuity rates, and the conformation tensor by
+    /// [`rheology::advance`] from `base` with the rate evaluated at `conf_eval` and the last
+    /// velocity gradients.
+    ///
+    /// Both predictor-correctors are made of such updates: Fang's (eqs. 49-50) is
+    /// `X^{n+1/2} = X^n + dt/2 F(X^n)`, `X^{n+1} = X^n + dt F(X^{n+1/2})`; Ren's (eqs. 25a-25b,
+    /// see [`super::pdri`]) is `X~ = X^n + dt G(X^n)`, `X^{n+1} = (X^n + dt/2 G(X^n)) + dt/2 G(X~)`.
+    pub fn update(&self, out: &mut Fluid, base: &Fluid, vel: &[Vec2], conf_eval: &[Mat2], dt: f64) {
+        out.mass = base.mass;
+        add_scaled(&mut out.x, &base.x, vel, dt);
+        if self.p.domain.period_x.is_some() {
+            let dom = self.p.domain;
+            out.x
+                .par_iter_mut()
+                .with_min_len(MIN_TASK_LIGHT)
+                .for_each(|x| *x = dom.wrap(*x));
+        }
+        add_scaled(&mut out.v, &base.v, &self.acc, dt);
+        add_scaled(&mut out.rho, &base.rho, &self.drho, dt);
+        out.conf.clear();
+        if R::ELASTIC {
+            let (model, method) = (&self.model, self.p.method);
+            out.conf.par_extend(
+                base.conf
+                    .par_iter()
+                    .zip(conf_eval.par_iter().zip(self.kappa.par_iter()))
+                    .with_min_len(MIN_TASK)
+                    .map(|(a, (e, k))| rheology::advance(method, model, a, e, k, dt)),
+            );
+        }
+    }
+
+    /// Positions of the virtual particles of the walls `plates`.
+    pub fn wall_positions(&self, plates: &[Plate]) -> Vec<Vec2> {
+        self.walls
+            .iter()
+            .zip(plates)
+            .flat_map(|(w, p)| w.positions(p))
+            .collect()
+    }
+}
+
+/// `out = base + rate * dt`, element by element, in parallel.
+fn add_scaled<T>(out: &mut Vec<T>, base: &[T], rate: &[T], dt: f64)
+where
+    T: Copy + Send + Sync + std::ops::Add<Output = T> + std::ops::Mul<f64, Output = T>,
+{
+    out.clear();
+    out.par_extend(
+        base.par_iter()
+            .zip(rate.par_iter())
+            .with_min_len(MIN_TASK_LIGHT)
+            .map(|(&b, &r)| b + r * dt),
+    );
+}
+
+/// A square lattice block of n x n particles at spacing `dx` from the origin, with density
+/// `rho(x)`, velocity `v(x)` and the conformation tensor at rest (for unit tests).
+#[cfg(test)]
+pub(crate) fn lattice_block(
+    n: i64,
+    dx: f64,
+    rho: impl Fn(Vec2) -> f64,
+    v: impl Fn(Vec2) -> Vec2,
+) -> Fluid {
+    let mut f = Fluid {
+        mass: 1000.0 * dx * dx,
+        ..Default::default()
+    };
+    for j in 0..n {
+        for i in 0..n {
+            let x = Vec2::new(i as f64 * dx, j as f64 * dx);
+            f.x.push(x);
+            f.v.push(v(x));
+            f.rho.push(rho(x));
+            f.conf.push(Mat2::identity());
+        }
+    }
+    f
+}
+
+mod passes;
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,61 @@
+//! The state of a simulation: everything that evolves. Serialisable and free of pointers, so a
+//! saved state restores in another process (FMI get/set/serialize FMU state).
+
+use crate::boundary::plate::Plate;
+use crate::particles::Fluid;
+use crate::Vec2;
+use serde::{Deserialize, Serialize};
+
+/// The continuous inputs a co-simulation master may change between communication points. They
+/// are held constant over a communication step (FMI 2.0 co-simulation without input derivatives).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct Inputs {
+    /// Velocity of the plate along its normal, positive away from the fluid [m/s].
+    pub plate_velocity: f64,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct State {
+    pub time: f64,
+    pub step: u64,
+    pub fluid: Fluid,
+    /// The rigid walls: the drop's plate (none for the elliptical drop).
+    pub walls: Vec<Plate>,
+    /// The inputs in force.
+    pub inputs: Inputs,
+    /// Force of the fluid on the walls at the last step's corrector stage [N/m], global frame.
+    pub wall_force: Vec2,
+    /// Time integral of that force since t = 0 [N s/m], global frame.
+    pub wall_impulse: Vec2,
+    /// Stable time step at the last step [s] (the step actually taken may be shorter, to land
+    /// on a communication point).
+    pub last_dt: f64,
+    /// Void fraction after the last step (see [`crate::health`]).
+    pub void_fraction: f64,
+    /// How many times a fluid particle was put back above the plate by the impenetrability
+    /// condition of Fang's walls (see [`crate::scheme::wcsph`]).
+    pub wall_reflections: u64,
+}
+
+impl State {
+    /// The initial state of a fluid and its walls.
+    pub fn new(fluid: Fluid, walls: Vec<Plate>) -> Self {
+        Self {
+            time: 0.0,
+            step: 0,
+            fluid,
+            walls,
+            inputs: Inputs::default(),
+            wall_force: Vec2::zeros(),
+            wall_impulse: Vec2::zeros(),
+            last_dt: 0.0,
+            void_fraction: 0.0,
+            wall_reflections: 0,
+        }
+    }
+
+    /// The plate (the first wall), if there is one.
+    pub fn plate(&self) -> Option<&Plate> {
+        self.walls.first()
+    }
+}

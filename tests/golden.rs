@@ -1,0 +1,241 @@
+//! Golden trajectories: short runs of every scheme and scene compared **bitwise** with reference
+//! files in `tests/golden/`. They guard refactors: a move of code that changes any bit of any
+//! output, or of the final particle state, fails here.
+//!
+//! Regenerate the references only on purpose (a change of the physics or of the summation order),
+//! with `VISCOSPH_BLESS=1 cargo test --release --test golden`, and say why in the commit message.
+//! Each file holds, per record time, the bit patterns of the time and of every output, then a hash
+//! (FNV-1a 64) of the bit patterns of the final fluid state (positions, velocities, densities,
+//! conformation tensors) and of the accumulated wall impulse.
+//!
+//! Every case fixes `sound_speed` (and every other setting it depends on) explicitly, so a change
+//! of a default does not move a golden file.
+
+mod common;
+
+use common::{i, r, s};
+use std::fmt::Write;
+use viscosph::config::{SceneConfig, Value};
+use viscosph::simulation::Simulation;
+
+struct Case {
+    name: &'static str,
+    settings: &'static [(&'static str, Setting)],
+    t_end: f64,
+    records: usize,
+}
+
+#[derive(Clone, Copy)]
+enum Setting {
+    R(f64),
+    I(i64),
+    S(&'static str),
+}
+
+fn value(v: Setting) -> Value {
+    match v {
+        Setting::R(x) => r(x),
+        Setting::I(x) => i(x),
+        Setting::S(x) => s(x),
+    }
+}
+
+use Setting::{I, R, S};
+
+/// Drops start a few millimetres above the plate, so the walls act within a few milliseconds.
+const CASES: &[Case] = &[
+    Case {
+        name: "wcsph_drop_oldroyd_b",
+        settings: &[
+            ("scheme", S("wcsph")),
+            ("rheology", S("oldroyd_b")),
+            ("sound_speed", R(12.5)),
+            ("initial_drop_height", R(0.012)),
+            ("particles_per_diameter", I(16)),
+        ],
+        t_end: 0.008,
+        records: 8,
+    },
+    Case {
+        name: "wcsph_drop_newtonian_30deg",
+        settings: &[
+            ("scheme", S("wcsph")),
+            ("rheology", S("newtonian")),
+            ("sound_speed", R(12.5)),
+            ("plate_inclination", R(30.0)),
+            ("initial_drop_height", R(0.018)),
+            ("particles_per_diameter", I(16)),
+        ],
+        t_end: 0.008,
+        records: 8,
+    },
+    Case {
+        name: "wcsph_drop_giesekus_log_evss_ren_stress",
+        settings: &[
+            ("scheme", S("wcsph")),
+            ("rheology", S("giesekus")),
+            ("conformation_method", S("log")),
+            ("evss_alpha", R(0.05)),
+            ("artificial_stress_kind", S("ren")),
+            ("sound_speed", R(12.5)),
+            ("plate_inclination", R(15.0)),
+            ("initial_drop_height", R(0.018)),
+            ("particles_per_diameter", I(16)),
+        ],
+        t_end: 0.008,
+        records: 8,
+    },
+    Case {
+        name: "pdri_drop_oldroyd_b",
+        settings: &[
+            ("scheme", S("pdri")),
+            ("rheology", S("oldroyd_b")),
+            ("sound_speed", R(12.5)),
+            ("initial_drop_height", R(0.012)),
+            ("particles_per_diameter", I(16)),
+            ("density_reinit_interval", I(5)),
+        ],
+        t_end: 0.006,
+        records: 6,
+    },
+    Case {
+        name: "pdri_drop_cross_30deg_tait",
+        settings: &[
+            ("scheme", S("pdri")),
+            ("rheology", S("cross")),
+            ("artificial_stress_kind", S("ren")),
+            ("equation_of_state", S("tait")),
+            ("sound_speed", R(12.5)),
+            ("plate_inclination", R(30.0)),
+            ("initial_drop_height", R(0.018)),
+            ("particles_per_diameter", I(16)),
+            ("density_reinit_interval", I(7)),
+        ],
+        t_end: 0.006,
+        records: 6,
+    },
+    Case {
+        name: "pdri_drop_fene_p_fang_walls_stress",
+        settings: &[
+            ("scheme", S("pdri")),
+            ("rheology", S("fene_p")),
+            ("artificial_stress_kind", S("fang")),
+            ("sound_speed", R(12.5)),
+            ("plate_inclination", R(45.0)),
+            ("initial_drop_height", R(0.018)),
+            ("particles_per_diameter", I(12)),
+        ],
+        t_end: 0.006,
+        records: 6,
+    },
+    Case {
+        name: "wcsph_elliptical_drop",
+        settings: &[
+            ("scene", S("elliptical_drop")),
+            ("scheme", S("wcsph")),
+            ("particles_per_diameter", I(20)),
+        ],
+        t_end: 0.002,
+        records: 4,
+    },
+    Case {
+        name: "pdri_elliptical_drop",
+        settings: &[
+            ("scene", S("elliptical_drop")),
+            ("scheme", S("pdri")),
+            ("particles_per_diameter", I(20)),
+        ],
+        t_end: 0.002,
+        records: 4,
+    },
+];
+
+/// The outputs recorded, by name (outputs added later do not change the files).
+const RECORDED: [&str; 13] = [
+    "drop_width",
+    "drop_height",
+    "wall_force_normal",
+    "wall_force_tangential",
+    "spread_front",
+    "spread_back",
+    "kinetic_energy",
+    "volume_error",
+    "max_conformation_trace",
+    "min_conformation_det",
+    "time_step",
+    "particle_count",
+    "void_fraction",
+];
+
+/// FNV-1a over 64-bit words.
+fn fnv(words: impl IntoIterator<Item = u64>) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for w in words {
+        for b in w.to_le_bytes() {
+            h ^= b as u64;
+            h = h.wrapping_mul(0x0100_0000_01b3);
+        }
+    }
+    h
+}
+
+fn trajectory(case: &Case) -> String {
+    let mut cfg = SceneConfig::default();
+    for (k, v) in case.settings {
+        cfg.set(k, value(*v)).unwrap();
+    }
+    let mut sim = Simulation::new(cfg).unwrap();
+    let mut text = String::new();
+    let dt = case.t_end / case.records as f64;
+    for k in 0..=case.records {
+        if k > 0 {
+            sim.advance_to(k as f64 * dt)
+                .unwrap_or_else(|e| panic!("{}: {e}", case.name));
+        }
+        let o = sim.outputs();
+        write!(text, "{:016x}", sim.time().to_bits()).unwrap();
+        for name in RECORDED {
+            let v = o.get(name).unwrap();
+            write!(text, " {:016x}", v.to_bits()).unwrap();
+        }
+        text.push('\n');
+    }
+    let st = sim.state();
+    let f = &st.fluid;
+    let words =
+        f.x.iter()
+            .chain(&f.v)
+            .flat_map(|p| [p.x, p.y])
+            .chain(f.rho.iter().copied())
+            .chain(
+                f.conf
+                    .iter()
+                    .flat_map(|a| a.iter().copied().collect::<Vec<_>>()),
+            )
+            .chain([st.wall_impulse.x, st.wall_impulse.y, st.time])
+            .map(f64::to_bits)
+            .chain([st.step, f.len() as u64]);
+    writeln!(text, "state {:016x}", fnv(words)).unwrap();
+    text
+}
+
+#[test]
+fn golden_trajectories_are_bitwise_unchanged() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden");
+    let bless = std::env::var_os("VISCOSPH_BLESS").is_some();
+    let mut failed = Vec::new();
+    for case in CASES {
+        let got = trajectory(case);
+        let path = dir.join(format!("{}.txt", case.name));
+        if bless {
+            std::fs::write(&path, &got).unwrap();
+            continue;
+        }
+        let want = std::fs::read_to_string(&path)
+            .unwrap_or_else(|e| panic!("{}: {e} (VISCOSPH_BLESS=1 writes it)", path.display()));
+        if got != want {
+            failed.push(case.name);
+        }
+    }
+    assert!(failed.is_empty(), "trajectories changed: {failed:?}");
+}

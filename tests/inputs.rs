@@ -1,0 +1,91 @@
+//! Inputs held in the state and exact landing on communication points once they change
+//! (the seam the FMU's `plate_velocity` input builds on).
+
+mod common;
+
+use common::{r, s};
+use viscosph::config::SceneConfig;
+use viscosph::simulation::Simulation;
+use viscosph::state::Inputs;
+
+fn drop_cfg() -> SceneConfig {
+    let mut c = SceneConfig::default();
+    c.set("rheology", s("newtonian")).unwrap();
+    c.set("sound_speed", r(12.5)).unwrap();
+    c.set("initial_drop_height", r(0.014)).unwrap();
+    c.set("plate_inclination", r(20.0)).unwrap();
+    c
+}
+
+#[test]
+fn setting_unchanged_inputs_changes_nothing() {
+    let mut a = Simulation::new(drop_cfg()).unwrap();
+    let mut b = Simulation::new(drop_cfg()).unwrap();
+    for k in 1..=4 {
+        let t = 0.0017 * k as f64;
+        a.advance_to(t).unwrap();
+        b.advance_to(t).unwrap();
+        b.set_inputs(Inputs::default()).unwrap();
+    }
+    assert_eq!(a.state(), b.state());
+    assert_eq!(a.outputs(), b.outputs());
+}
+
+#[test]
+fn an_input_change_acts_from_the_communication_point_exactly() {
+    let mut sim = Simulation::new(drop_cfg()).unwrap();
+    let t1 = 0.00313;
+    sim.advance_to(t1).unwrap();
+    // Dense output: the solver's own state stepped past t1.
+    assert!(sim.state().time > t1, "{}", sim.state().time);
+    let before = sim.state().plate().unwrap().clone();
+    sim.set_inputs(Inputs {
+        plate_velocity: 0.25,
+    })
+    .unwrap();
+    // It went back and landed on t1 with the old input: the plate has not moved yet.
+    assert_eq!(sim.state().time, t1);
+    assert_eq!(sim.time(), t1);
+    assert_eq!(sim.state().plate().unwrap().origin, before.origin);
+    // From now on every communication point is landed on exactly.
+    let t2 = 0.00471;
+    sim.advance_to(t2).unwrap();
+    assert_eq!(sim.state().time, t2);
+    let plate = sim.state().plate().unwrap();
+    let moved = 0.25 * (t2 - t1);
+    assert!(
+        (plate.displacement - moved).abs() < 1e-15,
+        "{}",
+        plate.displacement
+    );
+    // A rigid motion away from the fluid, along -n.
+    let shift = plate.origin - before.origin;
+    assert!((shift + plate.n * moved).norm() < 1e-15, "{shift}");
+    // The outputs are those of the state itself (nothing to interpolate).
+    let o = sim.outputs();
+    assert_eq!(
+        o.drop_width,
+        sim.scene()
+            .outputs(sim.state(), sim.effective_config())
+            .drop_width
+    );
+}
+
+#[test]
+fn inputs_are_checked() {
+    let mut sim = Simulation::new(drop_cfg()).unwrap();
+    assert!(sim
+        .set_inputs(Inputs {
+            plate_velocity: f64::NAN
+        })
+        .is_err());
+    let mut c = SceneConfig::default();
+    c.set("scene", s("elliptical_drop")).unwrap();
+    let mut ell = Simulation::new(c).unwrap();
+    let e = ell
+        .set_inputs(Inputs {
+            plate_velocity: 1.0,
+        })
+        .unwrap_err();
+    assert!(e.to_string().contains("no plate"), "{e}");
+}
