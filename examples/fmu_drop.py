@@ -59,6 +59,8 @@ def parse_start_values(pairs, md):
                 values[name] = int(text)
             elif v.type == "Boolean":
                 values[name] = text.lower() in ("1", "true", "yes")
+            elif v.type == "String":  # an enumeration's twin: --set rheology_name=giesekus
+                values[name] = text
             else:
                 values[name] = float(text)
         except ValueError:

@@ -9,8 +9,10 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-# Its own target directory: never recompiles what `cargo test --workspace` built in target/
-# (different dependency features), and the other way round.
-cargo run --release -p fmu-build --target-dir target/fmu-build
+# The venv first: it holds PyPI's cargo-zigbuild and ziglang, with which fmu-build links the
+# portable linux64 binary.
 bash tests/python/setup_venv.sh
+# The same build as the test command's (target/, same features), so after
+# `bash tests/run_all.sh` this compiles nothing.
+cargo run --release -p fmu-build
 .venv/bin/python examples/fmu_drop.py "$@"

@@ -260,6 +260,52 @@ pub fn param_by_vr(vr: u32) -> Option<&'static ParamSpec> {
     PARAMS.iter().find(|p| p.value_reference == vr)
 }
 
+/// Value reference of an enumeration's String twin: the enumeration's own plus this offset, so
+/// every variable of the FMU has a value reference of its own, whatever its type.
+pub const NAME_VR_OFFSET: u32 = 1000;
+
+/// Suffix of the String twins' names: `rheology` is also settable as `rheology_name`.
+pub const NAME_SUFFIX: &str = "_name";
+
+/// The String twin of each Enumeration row: `(row, twin name, twin value reference)`.
+///
+/// Why twins exist: OSP's libcosim and ecos ignore FMI 2.0 Enumeration variables (they warn
+/// "variable type not supported" and leave the default), and fmpy's `simulate_fmu` converts an
+/// Enumeration's start value with `int()`, so a model could be chosen there only by item number.
+/// All of them, and fmi-sim, set String variables by name. The Enumeration stays the canonical
+/// variable (same name and value reference as before, shown as a list of items by tools that
+/// read TypeDefinitions); its twin sets the same parameter, and the last value set wins.
+/// Not an Integer alias of the Enumeration (Integer and Enumeration share one value-reference
+/// space): that would put two parameters, each with the start value a parameter needs, in one
+/// alias set, which FMI 2.0 section 2.2.7 forbids ("at most one variable of the same alias set
+/// of variables with variability != constant can have a start attribute"), and it would still
+/// take only numbers.
+pub fn name_variables() -> impl Iterator<Item = (&'static ParamSpec, String, u32)> {
+    PARAMS.iter().filter_map(|p| match p.kind {
+        Kind::Enumeration { .. } => Some((
+            p,
+            format!("{}{NAME_SUFFIX}", p.name),
+            p.value_reference + NAME_VR_OFFSET,
+        )),
+        _ => None,
+    })
+}
+
+/// The Enumeration row whose String twin has value reference `vr`.
+pub fn name_variable_by_vr(vr: u32) -> Option<&'static ParamSpec> {
+    name_variables()
+        .find(|(_, _, v)| *v == vr)
+        .map(|(p, _, _)| p)
+}
+
+/// The Enumeration row whose String twin is called `name` (e.g. `rheology_name`).
+pub fn name_variable(name: &str) -> Option<&'static ParamSpec> {
+    let stem = name.strip_suffix(NAME_SUFFIX)?;
+    PARAMS
+        .iter()
+        .find(|p| p.name == stem && matches!(p.kind, Kind::Enumeration { .. }))
+}
+
 crate::choice_enum!(
     /// The flow to simulate.
     Scene, SCENES, Drop = "drop", Jet = "jet", EllipticalDrop = "elliptical_drop", Channel = "channel");
@@ -408,7 +454,22 @@ impl Default for SceneConfig {
 impl SceneConfig {
     /// Set one parameter by its FMU name, checking type and range against [`PARAMS`].
     /// Enumerations accept their name (`Value::Text`) or their 1-based index (`Value::Integer`).
+    /// A String twin (`rheology_name`, see [`name_variables`]) takes an item name.
     pub fn set(&mut self, name: &str, value: Value) -> Result<(), ConfigError> {
+        if param_spec(name).is_none() {
+            if let Some(p) = name_variable(name) {
+                return match value {
+                    Value::Text(_) => self.set(p.name, value),
+                    other => Err(ConfigError::WrongType {
+                        name: name.into(),
+                        detail: format!(
+                            "expected one of the names {}, got {other}",
+                            range_text(&p.kind)
+                        ),
+                    }),
+                };
+            }
+        }
         let spec = param_spec(name).ok_or_else(|| ConfigError::Unknown(name.to_string()))?;
         match spec.kind {
             Kind::Real {
@@ -530,6 +591,18 @@ impl SceneConfig {
                 _ => unreachable!(),
             }),
         })
+    }
+
+    /// The item name of an Enumeration parameter (what its String twin reads).
+    pub fn item_name(&self, name: &str) -> Result<&'static str, ConfigError> {
+        let spec = param_spec(name).ok_or_else(|| ConfigError::Unknown(name.to_string()))?;
+        match (spec.kind, self.get(name)?) {
+            (Kind::Enumeration { items, .. }, Value::Integer(i)) => Ok(items[(i - 1) as usize].0),
+            _ => Err(ConfigError::WrongType {
+                name: name.into(),
+                detail: "not an enumeration".into(),
+            }),
+        }
     }
 
     fn real_field(&mut self, name: &str) -> Option<&mut f64> {
@@ -882,10 +955,59 @@ mod tests {
     }
 
     #[test]
+    fn string_twins_set_the_enumeration_by_name() {
+        let mut c = SceneConfig::default();
+        c.set("rheology_name", Value::Text("giesekus".into()))
+            .unwrap();
+        assert_eq!(c.rheology, RheologyKind::Giesekus);
+        assert_eq!(c.item_name("rheology").unwrap(), "giesekus");
+        let e = c
+            .set("scheme_name", Value::Text("sph".into()))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("scheme") && e.contains("'wcsph'"), "{e}");
+        let e = c
+            .set("rheology_name", Value::Integer(8))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("rheology_name") && e.contains("'giesekus'"),
+            "{e}"
+        );
+        let twins: Vec<String> = name_variables().map(|(_, n, _)| n).collect();
+        assert_eq!(
+            twins,
+            [
+                "scene_name",
+                "scheme_name",
+                "rheology_name",
+                "conformation_method_name",
+                "artificial_stress_kind_name",
+                "equation_of_state_name"
+            ]
+        );
+        assert!(name_variable("plate_inclination_name").is_none());
+    }
+
+    #[test]
     fn value_references_are_unique() {
-        let mut vrs: Vec<u32> = PARAMS.iter().map(|p| p.value_reference).collect();
+        let mut vrs: Vec<u32> = PARAMS
+            .iter()
+            .map(|p| p.value_reference)
+            .chain(name_variables().map(|(_, _, vr)| vr))
+            .chain(
+                crate::diagnostics::OUTPUTS
+                    .iter()
+                    .map(|o| o.value_reference),
+            )
+            .collect();
+        let n = vrs.len();
         vrs.sort();
         vrs.dedup();
-        assert_eq!(vrs.len(), PARAMS.len());
+        assert_eq!(
+            vrs.len(),
+            n,
+            "every variable of every type has its own value reference"
+        );
     }
 }

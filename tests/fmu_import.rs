@@ -3,10 +3,11 @@
 //! impact through the FMU must give the same outputs as the library's own [`Simulation`]
 //! advanced to the same communication points, because the FMU is a thin translator.
 //!
-//! The test builds the FMU itself (`cargo run --release -p fmu-build`) so that `cargo test`
-//! works on a clean checkout and never tests a stale binary. It builds in its own target
-//! directory, `target/fmu-build`, which also keeps it clear of the lock `cargo test` holds on
-//! `target/`.
+//! The FMU tested is the one named by the environment variable `VISCOSPH_FMU`, which
+//! tests/run_all.sh sets after building `target/fmu/ViscoSPH.fmu` in its previous stage (one
+//! build for the tests and the main job). Without it (`cargo test` alone) the test builds the
+//! FMU itself, so it works on a clean checkout and never tests a stale binary: in its own
+//! target directory, `target/fmu-build`, clear of the lock `cargo test` holds on `target/`.
 //!
 //! `fmi-schema` (the importer's XML reader) only reads part of the FMI 2.0 attributes; the full
 //! XML is checked with a general XML parser in `tests/fmu_model_description.rs`.
@@ -30,6 +31,10 @@ fn root() -> PathBuf {
 fn fmu_path() -> &'static Path {
     static BUILT: OnceLock<PathBuf> = OnceLock::new();
     BUILT.get_or_init(|| {
+        if let Some(p) = std::env::var_os("VISCOSPH_FMU").map(PathBuf::from) {
+            assert!(p.is_file(), "VISCOSPH_FMU = {} is not a file", p.display());
+            return p;
+        }
         let cargo = std::env::var("CARGO").unwrap_or_else(|_| env!("CARGO").to_string());
         let status = Command::new(cargo)
             .args(["run", "--release", "-p", "fmu-build", "--target-dir"])

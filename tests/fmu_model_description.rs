@@ -10,9 +10,9 @@
 
 use roxmltree::{Document, Node};
 use std::collections::HashSet;
-use viscosph::config::{param_spec, Kind, SceneConfig, Value, PARAMS};
+use viscosph::config::{name_variables, param_spec, Kind, SceneConfig, Value, PARAMS};
 use viscosph::diagnostics::OUTPUTS;
-use viscosph::fmi2::model_description::parameter_description;
+use viscosph::fmi2::model_description::{name_variable_description, parameter_description};
 use viscosph::fmi2::{guid, model_description_xml};
 
 const PATH: &str = concat!(
@@ -88,7 +88,10 @@ fn every_variable_matches_the_tables() {
     let types: Vec<Node> = elements(child(root, "TypeDefinitions"), "SimpleType").collect();
 
     let vars: Vec<Node> = elements(child(root, "ModelVariables"), "ScalarVariable").collect();
-    assert_eq!(vars.len(), PARAMS.len() + OUTPUTS.len());
+    assert_eq!(
+        vars.len(),
+        PARAMS.len() + OUTPUTS.len() + name_variables().count()
+    );
     let names: HashSet<&str> = vars.iter().map(|v| attr(*v, "name")).collect();
     assert_eq!(names.len(), vars.len(), "variable names are unique");
     let vrs: HashSet<&str> = vars.iter().map(|v| attr(*v, "valueReference")).collect();
@@ -182,6 +185,34 @@ fn every_variable_matches_the_tables() {
         assert!(e.attribute("start").is_none(), "calculated: no start");
         unit_ok(e, o.unit);
     }
+
+    // The String twin of every Enumeration: a fixed parameter whose start is the default item,
+    // listed after the outputs.
+    let mut twins = 0;
+    for (p, name, vr) in name_variables() {
+        twins += 1;
+        let (index, v) = find(&name);
+        assert!(
+            index > PARAMS.len() + OUTPUTS.len(),
+            "{name} after the outputs"
+        );
+        assert_eq!(num(v, "valueReference"), vr as f64, "{name}");
+        assert_eq!(attr(v, "causality"), "parameter", "{name}");
+        assert_eq!(attr(v, "variability"), "fixed", "{name}");
+        assert_eq!(attr(v, "initial"), "exact", "{name}");
+        assert_eq!(attr(v, "description"), name_variable_description(p));
+        let Kind::Enumeration { default, items, .. } = p.kind else {
+            panic!("{name} twins an enumeration")
+        };
+        assert_eq!(attr(child(v, "String"), "start"), default, "{name}");
+        for (item, _) in items {
+            assert!(
+                attr(v, "description").contains(&format!("'{item}'")),
+                "{name}"
+            );
+        }
+    }
+    assert_eq!(twins, 6);
 
     let ms = child(root, "ModelStructure");
     for list in ["Outputs", "InitialUnknowns"] {

@@ -1,18 +1,14 @@
 #!/usr/bin/env bash
-# The README's "all tests" command: Rust unit and integration tests (the FMU through the `fmi`
-# crate included), then the fmpy tests of the built FMU. Every stage runs even if an earlier
-# one failed; the exit status is nonzero if any failed.
+# The README's "all tests" command. Stages:
+#   1. tool chains and the Python venv (tests/install_toolchains.sh; installs only what is missing)
+#   2. the FMU: `cargo run --release -p fmu-build` in target/ (host library, shared with the
+#      tests and the main job) plus the portable linux64 and win64 binaries in target/cross
+#   3. `cargo test --release --workspace`; the FMU tests use the FMU of stage 2 (VISCOSPH_FMU)
+#   4. pytest tests/python: fmpy, libcosim, ecos, fmutool, the platforms (glibc, wine), Dask
+# Every stage runs even if an earlier one failed; the exit status is nonzero if any failed.
+# `bash examples/main.sh` afterwards compiles nothing: it runs the same fmu-build.
 set -uo pipefail
 cd "$(dirname "$0")/.."
-
-as_root() { if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi; }
-
-# The `fmi` crate's fmi-sys runs bindgen, which needs libclang.
-# (grep without -q reads all of ldconfig's output, so pipefail sees no SIGPIPE.)
-if ! ldconfig -p | grep libclang >/dev/null; then
-    echo "== installing libclang-dev (needed by bindgen in fmi-sys)"
-    as_root apt-get update && as_root apt-get install -y libclang-dev || exit 1
-fi
 
 failed=()
 stage() {
@@ -28,10 +24,11 @@ stage() {
     fi
 }
 
-stage "cargo test" cargo test --release --workspace --no-fail-fast
-stage "build the FMU" cargo run --release -p fmu-build --target-dir target/fmu-build
-stage "python venv" bash tests/python/setup_venv.sh
-stage "fmpy tests" .venv/bin/python -m pytest tests/python
+stage "tool chains" bash tests/install_toolchains.sh
+stage "build the FMU" cargo run --release -p fmu-build
+stage "cargo test" env VISCOSPH_FMU="$PWD/target/fmu/ViscoSPH.fmu" \
+    cargo test --release --workspace --no-fail-fast
+stage "pytest" .venv/bin/python -m pytest tests/python
 
 if [ ${#failed[@]} -gt 0 ]; then
     echo "FAILED: ${failed[*]}"

@@ -2,10 +2,11 @@
 //! entry point), generated from the same tables as `modelDescription.xml`, so every variable,
 //! unit, default and range shown is the one the binary enforces.
 
-use viscosph::config::{range_text, Kind, SceneConfig, Value, PARAMS};
+use viscosph::config::{name_variables, range_text, Kind, SceneConfig, Value, PARAMS};
 use viscosph::diagnostics::OUTPUTS;
 use viscosph::fmi2::model_description::{
-    escape, parameter_description, DEFAULT_STEP_SIZE, DEFAULT_STOP_TIME, LOG_CATEGORIES,
+    escape, name_variable_description, name_variable_start, parameter_description,
+    DEFAULT_STEP_SIZE, DEFAULT_STOP_TIME, LOG_CATEGORIES,
 };
 use viscosph::Simulation;
 
@@ -41,8 +42,8 @@ table{border-collapse:collapse}td,th{border:1px solid #bbb;padding:.2em .5em;ver
 th{background:#eee}code,pre{background:#f6f6f6}pre{padding:.6em;overflow-x:auto}\
 .no{color:#a00}";
 
-/// The whole page.
-pub fn index_html() -> String {
+/// The whole page; `platforms` are the binaries packed (e.g. `["linux64", "win64"]`).
+pub fn index_html(platforms: &[&str]) -> String {
     let mut h = String::new();
     h.push_str(&format!(
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\
@@ -52,8 +53,12 @@ pub fn index_html() -> String {
         "<h1>ViscoSPH.fmu {}</h1>\n",
         env!("CARGO_PKG_VERSION")
     ));
+    h.push_str(&format!(
+        "<p>Binaries: {}.</p>\n",
+        escape(&platforms.join(", "))
+    ));
     h.push_str(
-        "<p>An FMI 2.0 Co-Simulation FMU (binary for linux64) of transient viscoelastic and \
+        "<p>An FMI 2.0 Co-Simulation FMU of transient viscoelastic and \
          shear-thinning free-surface flow, computed by Smoothed Particle Hydrodynamics in 2D. \
          The default experiment is the test case of Fang et al. (2006): a circular Oldroyd-B drop \
          of diameter 2 cm hits a rigid plate at 1 m/s (&eta;<sub>0</sub> = 4 Pa.s, \
@@ -90,7 +95,10 @@ pub fn index_html() -> String {
          range; combinations that cannot be simulated (a drop starting inside the plate, a \
          resolution that would not fit in memory, a model not implemented yet) are refused by \
          <code>fmi2ExitInitializationMode</code>. Enumerations are set with \
-         <code>fmi2SetInteger</code> to the item's number.</p>\n",
+         <code>fmi2SetInteger</code> to the item's number, or by name through their String \
+         twin (<code>rheology_name = \"giesekus\"</code>, <code>fmi2SetString</code>), which \
+         importers that ignore Enumerations (OSP libcosim, ecos) and fmpy's \
+         <code>start_values</code> can set; the last value set wins.</p>\n",
     );
     h.push_str(
         "<table><tr><th>name</th><th>vr</th><th>type</th><th>unit</th><th>default</th>\
@@ -106,6 +114,15 @@ pub fn index_html() -> String {
             escape(&default_text(&p.kind)),
             escape(&range_text(&p.kind)),
             escape(&parameter_description(p)),
+        ));
+    }
+    for (p, name, vr) in name_variables() {
+        h.push_str(&format!(
+            "<tr><td><code>{}</code></td><td>{vr}</td><td>String</td><td></td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
+            escape(&name),
+            escape(name_variable_start(p)),
+            escape(&range_text(&p.kind)),
+            escape(&name_variable_description(p)),
         ));
     }
     h.push_str("</table>\n");
@@ -194,15 +211,11 @@ pub fn index_html() -> String {
 }
 
 const WORKED_EXAMPLE: &str = r#"# pip install fmpy==0.3.* matplotlib
-from fmpy import simulate_fmu, read_model_description
+from fmpy import simulate_fmu
 from fmpy.fmi1 import FMICallException  # raised by fmpy for FMI 2.0 too
 import matplotlib.pyplot as plt
 
 fmu = "ViscoSPH.fmu"
-md = read_model_description(fmu)
-# enumerations are set by item number: look it up by name
-rheology = next(v for v in md.modelVariables if v.name == "rheology")
-oldroyd_b = next(int(i.value) for i in rheology.declaredType.items if i.name == "oldroyd_b")
 
 res = simulate_fmu(
     fmu,
@@ -211,7 +224,7 @@ res = simulate_fmu(
     start_values={
         "plate_inclination": 30.0,      # deg
         "impact_velocity": 1.0,         # m/s
-        "rheology": oldroyd_b,
+        "rheology_name": "oldroyd_b",  # or "rheology": 2, the item's number
         "particles_per_diameter": 20,
     },
     output=["drop_width", "drop_height", "spread_front", "spread_back",
@@ -253,7 +266,7 @@ mod tests {
 
     #[test]
     fn every_variable_unit_and_default_is_documented() {
-        let html = index_html();
+        let html = index_html(&["linux64", "win64"]);
         for p in PARAMS {
             assert!(
                 html.contains(&format!("<code>{}</code>", p.name)),

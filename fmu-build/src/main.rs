@@ -2,14 +2,21 @@
 //!
 //! ```text
 //! modelDescription.xml
-//! binaries/linux64/ViscoSPH.so      the release cdylib, debug info stripped if `strip` exists
+//! binaries/linux64/ViscoSPH.so      release cdylib; needs glibc 2.17 when built with zig
+//! binaries/win64/ViscoSPH.dll       release cdylib for x86_64-pc-windows-gnu, if MinGW-w64 is here
 //! documentation/index.html          generated from the parameter and output tables
 //! ```
+//! (debug info stripped when `strip` / `x86_64-w64-mingw32-strip` exist).
 //!
-//! Usage: `cargo run --release -p fmu-build [-- --write-model-description]`. The scripts add
-//! `--target-dir target/fmu-build`, so that building the FMU never competes with the feature
-//! set of `cargo test --workspace` in `target/` (each would otherwise recompile the library
-//! the other just built). The FMU is always written to `target/fmu/ViscoSPH.fmu`.
+//! Usage: `cargo run --release -p fmu-build [-- --write-model-description]`, in the default
+//! target directory: the tests (`cargo test --release --workspace`) and the main job build the
+//! host library there once, with the same features (see fmu-build/Cargo.toml). The portable
+//! binaries are cross builds in `target/cross`: linux64 by `cargo zigbuild --target
+//! x86_64-unknown-linux-gnu.2.17` (zig links against glibc 2.17's symbol versions; a plain
+//! build would need the build machine's glibc, e.g. `hypot@GLIBC_2.35`), win64 by `cargo build
+//! --target x86_64-pc-windows-gnu` with Debian's mingw-w64 as the linker. A machine without
+//! those tool chains still gets an FMU (linux64 from the host build) and a note saying what
+//! is missing. The FMU is always written to `target/fmu/ViscoSPH.fmu`.
 //!
 //! The XML packed is generated from the tables this binary was compiled with, which are the
 //! ones the cdylib is built from a moment later (same workspace). The committed
@@ -87,57 +94,203 @@ fn run() -> Result<(), String> {
     }
 
     if !(cfg!(target_os = "linux") && cfg!(target_arch = "x86_64")) {
-        return Err("only the linux64 platform (Linux on x86_64) is supported".into());
+        return Err("only a Linux x86_64 machine builds the FMU".into());
     }
 
-    // Build the cdylib with the same cargo that runs us.
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
     let target = own_target_dir()?;
-    let status = Command::new(&cargo)
-        .args([
-            "build",
-            "--release",
-            "-p",
-            "viscosph",
-            "-p",
-            "fmu-build",
-            "--lib",
-        ])
-        .arg("--target-dir")
-        .arg(&target)
-        .current_dir(&root)
-        .status()
-        .map_err(|e| format!("could not run {cargo}: {e}"))?;
-    if !status.success() {
-        return Err(format!(
-            "`{cargo} build --release -p viscosph --lib` failed"
-        ));
-    }
+    // The cross builds have a target directory of their own: their build scripts run with the
+    // cross tool chain's environment, which would otherwise invalidate the host's.
+    let cross_dir = root.join("target").join("cross");
+    let mut binaries: Vec<(String, Vec<u8>)> = Vec::new();
+    let mut notes: Vec<String> = Vec::new();
 
-    let lib = target.join("release").join("libviscosph.so");
-    // The contract's location, whichever target directory was used to build.
     let out_dir = root.join("target").join("fmu");
     fs::create_dir_all(&out_dir).map_err(|e| e.to_string())?;
     let pid = std::process::id();
-    let binary = stripped(&lib, &out_dir.join(format!("{MODEL_IDENTIFIER}.{pid}.so")))?;
+
+    // linux64: against glibc 2.17 with zig as the linker when cargo-zigbuild is there (a plain
+    // build links the newest symbol versions of this machine's glibc, e.g. hypot@GLIBC_2.35,
+    // and does not load on older distributions), else a plain build that says so.
+    let linux_lib = match zig_tools(&root) {
+        Some((path, zig)) => {
+            cargo_build(
+                &cargo,
+                &root,
+                &["zigbuild", "--target", LINUX_ZIG_TARGET],
+                &cross_dir,
+                &[
+                    ("PATH", path.as_os_str()),
+                    ("CARGO_ZIGBUILD_ZIG_PATH", zig.as_os_str()),
+                ],
+            )?;
+            cross_dir
+                .join("x86_64-unknown-linux-gnu")
+                .join("release")
+                .join("libviscosph.so")
+        }
+        None => {
+            notes.push(
+                "linux64 binary built against this machine's glibc: it will not load on older \
+                 distributions (`pip install cargo-zigbuild` into .venv, which brings ziglang, \
+                 for one that needs glibc 2.17)"
+                    .into(),
+            );
+            // Same package selection as `cargo run -p fmu-build`, so cargo resolves the same
+            // features and finds the library it just built fresh.
+            cargo_build(&cargo, &root, &["build", "-p", "fmu-build"], &target, &[])?;
+            target.join("release").join("libviscosph.so")
+        }
+    };
+    let linux = strip(
+        "strip",
+        &linux_lib,
+        &out_dir.join(format!("{MODEL_IDENTIFIER}.{pid}.so")),
+    )?;
+    binaries.push((format!("binaries/linux64/{MODEL_IDENTIFIER}.so"), linux));
+
+    // win64: the MinGW-w64 target, when its Rust standard library and linker are installed.
+    match windows_tool_chain() {
+        Ok(()) => {
+            cargo_build(
+                &cargo,
+                &root,
+                &["build", "--target", WINDOWS_TARGET],
+                &cross_dir,
+                &[],
+            )?;
+            let dll = cross_dir
+                .join(WINDOWS_TARGET)
+                .join("release")
+                .join("viscosph.dll");
+            let bytes = strip(
+                "x86_64-w64-mingw32-strip",
+                &dll,
+                &out_dir.join(format!("{MODEL_IDENTIFIER}.{pid}.dll")),
+            )?;
+            binaries.push((format!("binaries/win64/{MODEL_IDENTIFIER}.dll"), bytes));
+        }
+        Err(why) => notes.push(format!("no win64 binary: {why}")),
+    }
 
     let fmu_path = out_dir.join(format!("{MODEL_IDENTIFIER}.fmu"));
     let tmp_path = out_dir.join(format!("{MODEL_IDENTIFIER}.fmu.{pid}.tmp"));
-    write_zip(&tmp_path, &xml, &binary, &docs::index_html())?;
+    let platforms: Vec<&str> = binaries
+        .iter()
+        .map(|(name, _)| name.split('/').nth(1).unwrap_or("?"))
+        .collect();
+    write_zip(&tmp_path, &xml, &binaries, &docs::index_html(&platforms))?;
     // Rename is atomic: a test reading the FMU never sees half an archive.
     fs::rename(&tmp_path, &fmu_path).map_err(|e| e.to_string())?;
+    for n in &notes {
+        eprintln!("fmu-build: note: {n}");
+    }
     println!(
-        "wrote {} ({} kB)",
+        "wrote {} ({} kB; platforms: {})",
         fmu_path.display(),
-        fs::metadata(&fmu_path).map(|m| m.len() / 1024).unwrap_or(0)
+        fs::metadata(&fmu_path).map(|m| m.len() / 1024).unwrap_or(0),
+        platforms.join(", ")
     );
     Ok(())
 }
 
-/// The library's bytes without debug sections (about 20 times smaller), or as built if
-/// `strip` is not available.
-fn stripped(lib: &Path, out: &Path) -> Result<Vec<u8>, String> {
-    let ok = Command::new("strip")
+/// cargo-zigbuild's target: x86_64 Linux, glibc 2.17 symbol versions (CentOS 7 and later).
+const LINUX_ZIG_TARGET: &str = "x86_64-unknown-linux-gnu.2.17";
+/// Rust's MinGW-w64 target: a DLL that needs only the Windows system libraries.
+const WINDOWS_TARGET: &str = "x86_64-pc-windows-gnu";
+
+/// `cargo <args> --release --lib -p viscosph --target-dir <dir>`, with extra environment.
+fn cargo_build(
+    cargo: &str,
+    root: &Path,
+    args: &[&str],
+    target_dir: &Path,
+    env: &[(&str, &std::ffi::OsStr)],
+) -> Result<(), String> {
+    let mut cmd = Command::new(cargo);
+    cmd.args(args)
+        .args(["--release", "--lib", "-p", "viscosph", "--target-dir"])
+        .arg(target_dir)
+        .current_dir(root);
+    for (k, v) in env {
+        cmd.env(k, v);
+    }
+    let status = cmd
+        .status()
+        .map_err(|e| format!("could not run {cargo}: {e}"))?;
+    if !status.success() {
+        return Err(format!(
+            "`cargo {} --release --lib -p viscosph` failed",
+            args.join(" ")
+        ));
+    }
+    Ok(())
+}
+
+/// `(PATH, zig)` for `cargo zigbuild`, if cargo-zigbuild and zig are installed: from the
+/// project's .venv (PyPI's cargo-zigbuild and ziglang, which tests/python/setup_venv.sh
+/// installs), else from the PATH. The PATH returned has .venv/bin first, where cargo looks for
+/// the `cargo-zigbuild` subcommand.
+fn zig_tools(root: &Path) -> Option<(std::ffi::OsString, PathBuf)> {
+    let works = |prog: &Path, arg: &str| {
+        Command::new(prog)
+            .arg(arg)
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .status()
+            .map(|s| s.success())
+            .unwrap_or(false)
+    };
+    let venv_bin = root.join(".venv").join("bin");
+    let mut dirs = vec![venv_bin.clone()];
+    dirs.extend(std::env::split_paths(
+        &std::env::var_os("PATH").unwrap_or_default(),
+    ));
+    let path = std::env::join_paths(&dirs).ok()?;
+    let find = |name: &str| dirs.iter().map(|d| d.join(name)).find(|p| p.is_file());
+    let zigbuild = find("cargo-zigbuild")?;
+    if !works(&zigbuild, "--version") {
+        return None;
+    }
+    let zig = find("python-zig")
+        .filter(|z| works(z, "version"))
+        .or_else(|| find("zig").filter(|z| works(z, "version")))?;
+    Some((path, zig))
+}
+
+/// Whether the win64 DLL can be built here, and if not, what is missing.
+fn windows_tool_chain() -> Result<(), String> {
+    let linker = Command::new("x86_64-w64-mingw32-gcc")
+        .arg("--version")
+        .stdout(std::process::Stdio::null())
+        .status()
+        .map(|s| s.success())
+        .unwrap_or(false);
+    if !linker {
+        return Err("x86_64-w64-mingw32-gcc not found (Debian: apt-get install mingw-w64)".into());
+    }
+    let sysroot = Command::new("rustc")
+        .args(["--print", "sysroot"])
+        .output()
+        .map_err(|e| format!("rustc: {e}"))?;
+    let sysroot = String::from_utf8_lossy(&sysroot.stdout).trim().to_string();
+    let std_dir = Path::new(&sysroot)
+        .join("lib")
+        .join("rustlib")
+        .join(WINDOWS_TARGET);
+    if !std_dir.is_dir() {
+        return Err(format!(
+            "the Rust standard library for {WINDOWS_TARGET} is not installed \
+             (rustup target add {WINDOWS_TARGET})"
+        ));
+    }
+    Ok(())
+}
+
+/// The library's bytes without debug sections (about 20 times smaller), or as built if the
+/// `strip` program for its format is not available.
+fn strip(program: &str, lib: &Path, out: &Path) -> Result<Vec<u8>, String> {
+    let ok = Command::new(program)
         .arg("--strip-debug")
         .arg("-o")
         .arg(out)
@@ -148,7 +301,10 @@ fn stripped(lib: &Path, out: &Path) -> Result<Vec<u8>, String> {
     let path = if ok {
         out
     } else {
-        eprintln!("fmu-build: `strip` not available; packing the library with its debug info");
+        eprintln!(
+            "fmu-build: `{program}` not available; packing {} with its debug info",
+            lib.display()
+        );
         lib
     };
     let bytes = fs::read(path).map_err(|e| format!("cannot read {}: {e}", path.display()));
@@ -156,20 +312,22 @@ fn stripped(lib: &Path, out: &Path) -> Result<Vec<u8>, String> {
     bytes
 }
 
-fn write_zip(path: &Path, xml: &str, binary: &[u8], html: &str) -> Result<(), String> {
+fn write_zip(
+    path: &Path,
+    xml: &str,
+    binaries: &[(String, Vec<u8>)],
+    html: &str,
+) -> Result<(), String> {
     let file = fs::File::create(path).map_err(|e| e.to_string())?;
     let mut zip = zip::ZipWriter::new(file);
     let text = SimpleFileOptions::default().compression_method(zip::CompressionMethod::Deflated);
     let exe = text.unix_permissions(0o755);
-    let entries: [(&str, &[u8], SimpleFileOptions); 3] = [
-        ("modelDescription.xml", xml.as_bytes(), text),
-        (
-            &format!("binaries/linux64/{MODEL_IDENTIFIER}.so"),
-            binary,
-            exe,
-        ),
-        ("documentation/index.html", html.as_bytes(), text),
-    ];
+    let mut entries: Vec<(&str, &[u8], SimpleFileOptions)> =
+        vec![("modelDescription.xml", xml.as_bytes(), text)];
+    for (name, bytes) in binaries {
+        entries.push((name, bytes, exe));
+    }
+    entries.push(("documentation/index.html", html.as_bytes(), text));
     for (name, bytes, opts) in entries {
         zip.start_file(name, opts).map_err(|e| e.to_string())?;
         zip.write_all(bytes).map_err(|e| e.to_string())?;

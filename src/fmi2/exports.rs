@@ -395,9 +395,21 @@ array_accessor!(
     slice_mut,
     |inst, vrs, _| inst.get_none("fmi2GetBoolean", vrs)
 );
-array_accessor!(fmi2GetString, *mut fmi2String, slice_mut, |inst, vrs, _| {
-    inst.get_none("fmi2GetString", vrs)
-});
+array_accessor!(
+    fmi2GetString,
+    *mut fmi2String,
+    slice_mut,
+    |inst, vrs, values| {
+        let mut names = vec![""; vrs.len()];
+        let st = inst.get_string(vrs, &mut names);
+        if st == Status::Ok {
+            for (v, name) in values.iter_mut().zip(names) {
+                *v = item_c_str(name);
+            }
+        }
+        st
+    }
+);
 array_accessor!(fmi2SetReal, *const fmi2Real, slice, |inst, vrs, values| {
     inst.set_real(vrs, values)
 });
@@ -410,8 +422,42 @@ array_accessor!(
 array_accessor!(fmi2SetBoolean, *const fmi2Boolean, slice, |inst, vrs, _| {
     inst.set_none("fmi2SetBoolean", vrs)
 });
-array_accessor!(fmi2SetString, *const fmi2String, slice, |inst, vrs, _| inst
-    .set_none("fmi2SetString", vrs));
+array_accessor!(
+    fmi2SetString,
+    *const fmi2String,
+    slice,
+    |inst, vrs, values| {
+        let texts: Vec<Option<String>> = values
+            .iter()
+            .map(|&p| (!p.is_null()).then(|| CStr::from_ptr(p).to_string_lossy().into_owned()))
+            .collect();
+        inst.set_string(vrs, &texts)
+    }
+);
+
+/// The NUL-terminated copy of an enumeration item name, for `fmi2GetString`. Built once from
+/// the parameter table and never changed, so the pointers stay valid for the life of the
+/// library (FMI 2.0 section 2.1.7 only asks until the next call) and instances share nothing
+/// mutable.
+fn item_c_str(name: &str) -> fmi2String {
+    use std::sync::OnceLock;
+    static NAMES: OnceLock<Vec<(&'static str, CString)>> = OnceLock::new();
+    let names = NAMES.get_or_init(|| {
+        crate::config::PARAMS
+            .iter()
+            .filter_map(|p| match p.kind {
+                crate::config::Kind::Enumeration { items, .. } => Some(items),
+                _ => None,
+            })
+            .flatten()
+            .map(|(n, _)| (*n, c_text(n)))
+            .collect()
+    });
+    names
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map_or(c"".as_ptr(), |(_, c)| c.as_ptr())
+}
 
 // ---------------------------------------------------------------------------------------------
 // FMI 2.0 section 2.1.8: getting and setting the complete FMU state

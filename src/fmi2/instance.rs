@@ -14,7 +14,9 @@
 
 use super::model_description::{guid, LOG_CATEGORIES};
 use super::types::Status;
-use crate::config::{param_by_vr, Kind, ParamSpec, SceneConfig, Value};
+use crate::config::{
+    name_variable_by_vr, param_by_vr, Kind, ParamSpec, SceneConfig, Value, NAME_SUFFIX,
+};
 use crate::diagnostics::{Outputs, OUTPUTS};
 use crate::simulation::{SimError, Simulation};
 use serde::{Deserialize, Serialize};
@@ -112,12 +114,17 @@ fn error<T>(msg: impl Into<String>) -> Answer<T> {
 /// A variable of the interface, found by value reference.
 enum Var {
     Param(&'static ParamSpec),
+    /// The String twin of an Enumeration parameter ([`crate::config::name_variables`]).
+    Name(&'static ParamSpec),
     Output(usize),
 }
 
 fn lookup(vr: u32) -> Option<Var> {
     if let Some(p) = param_by_vr(vr) {
         return Some(Var::Param(p));
+    }
+    if let Some(p) = name_variable_by_vr(vr) {
+        return Some(Var::Name(p));
     }
     OUTPUTS
         .iter()
@@ -135,6 +142,7 @@ fn unknown_vr(vr: u32) -> Fail {
 fn type_of(v: &Var) -> &'static str {
     match v {
         Var::Output(_) => "Real",
+        Var::Name(_) => "String",
         Var::Param(p) => match p.kind {
             Kind::Real { .. } => "Real",
             Kind::Integer { .. } => "Integer",
@@ -143,10 +151,11 @@ fn type_of(v: &Var) -> &'static str {
     }
 }
 
-fn name_of(v: &Var) -> &'static str {
+fn name_of(v: &Var) -> String {
     match v {
-        Var::Output(i) => OUTPUTS[*i].name,
-        Var::Param(p) => p.name,
+        Var::Output(i) => OUTPUTS[*i].name.to_string(),
+        Var::Param(p) => p.name.to_string(),
+        Var::Name(p) => format!("{}{NAME_SUFFIX}", p.name),
     }
 }
 
@@ -520,6 +529,7 @@ impl Instance {
                             (Kind::Real { .. }, Ok(Value::Real(x))) => x,
                             _ => return Err(wrong_type(vr, &var, "Get")),
                         },
+                        Var::Name(_) => return Err(wrong_type(vr, &var, "Get")),
                     };
                 }
                 Ok(Status::Ok)
@@ -543,7 +553,7 @@ impl Instance {
                             ) => i32::try_from(i).expect("table ranges fit in fmi2Integer"),
                             _ => return Err(wrong_type(vr, &var, "Get")),
                         },
-                        Var::Output(_) => return Err(wrong_type(vr, &var, "Get")),
+                        Var::Output(_) | Var::Name(_) => return Err(wrong_type(vr, &var, "Get")),
                     };
                 }
                 Ok(Status::Ok)
@@ -551,8 +561,69 @@ impl Instance {
         )
     }
 
-    /// `fmi2GetBoolean`/`fmi2GetString`: the interface has no such variables, so any value
-    /// reference is refused.
+    /// `fmi2GetString`: the item names of the String twins of the Enumeration parameters, as
+    /// `'static` strings (the table's), so the pointers handed to the importer stay valid.
+    pub fn get_string(&mut self, vrs: &[u32], values: &mut [&'static str]) -> Status {
+        self.call(
+            "fmi2GetString",
+            mask::GET,
+            || format!("vr={vrs:?}"),
+            |s| {
+                for (k, &vr) in vrs.iter().enumerate() {
+                    let var = lookup(vr).ok_or_else(|| unknown_vr(vr))?;
+                    values[k] = match &var {
+                        Var::Name(p) => s
+                            .cfg
+                            .item_name(p.name)
+                            .map_err(|e| Fail::Error(e.to_string()))?,
+                        _ => return Err(wrong_type(vr, &var, "Get")),
+                    };
+                }
+                Ok(Status::Ok)
+            },
+        )
+    }
+
+    /// `fmi2SetString`: a String twin takes an item name of its Enumeration (refused with the
+    /// list of names otherwise). All or nothing, like [`Instance::set_real`].
+    pub fn set_string(&mut self, vrs: &[u32], values: &[Option<String>]) -> Status {
+        self.call(
+            "fmi2SetString",
+            mask::SET,
+            || format!("vr={vrs:?}, value={values:?}"),
+            |s| {
+                let mut cfg = s.cfg.clone();
+                for (&vr, x) in vrs.iter().zip(values) {
+                    let var = lookup(vr).ok_or_else(|| unknown_vr(vr))?;
+                    match &var {
+                        Var::Name(p) => {
+                            let Some(text) = x else {
+                                return error(format!(
+                                    "value[] holds NULL for '{}' (valueReference {vr})",
+                                    name_of(&var)
+                                ));
+                            };
+                            cfg.set(p.name, Value::Text(text.clone()))
+                                .map_err(|e| Fail::Error(format!("'{}': {e}", name_of(&var))))?
+                        }
+                        Var::Output(i) => {
+                            return error(format!(
+                                "'{}' (valueReference {vr}) is an output and cannot be set",
+                                OUTPUTS[*i].name
+                            ))
+                        }
+                        _ => return Err(wrong_type(vr, &var, "Set")),
+                    }
+                }
+                s.cfg = cfg;
+                s.preview = None;
+                Ok(Status::Ok)
+            },
+        )
+    }
+
+    /// `fmi2GetBoolean`: the interface has no such variables, so any value reference is
+    /// refused.
     pub fn get_none(&mut self, func: &'static str, vrs: &[u32]) -> Status {
         self.call(
             func,
@@ -562,7 +633,7 @@ impl Instance {
         )
     }
 
-    /// `fmi2SetBoolean`/`fmi2SetString`: see [`Instance::get_none`].
+    /// `fmi2SetBoolean`: see [`Instance::get_none`].
     pub fn set_none(&mut self, func: &'static str, vrs: &[u32]) -> Status {
         self.call(
             func,
@@ -915,6 +986,68 @@ mod tests {
                     .map(|o| o.value_reference)
             })
             .unwrap()
+    }
+
+    #[test]
+    fn string_twins_set_and_read_the_enumerations_all_or_nothing() {
+        let (mut i, log) = instance(false);
+        let twin = |name: &str| vr(name) + crate::config::NAME_VR_OFFSET;
+        assert_eq!(
+            i.set_string(
+                &[twin("rheology"), twin("scheme")],
+                &[Some("giesekus".into()), Some("pdri".into())]
+            ),
+            Status::Ok
+        );
+        assert_eq!(i.config().rheology, crate::config::RheologyKind::Giesekus);
+        assert_eq!(i.config().scheme, crate::config::SchemeKind::Pdri);
+        // a bad name in the second place leaves the first value unset too
+        assert_eq!(
+            i.set_string(
+                &[twin("rheology"), twin("scene")],
+                &[Some("cross".into()), Some("splash".into())]
+            ),
+            Status::Error
+        );
+        let msg = log.borrow().last().unwrap().2.clone();
+        assert!(
+            msg.contains("scene_name") && msg.contains("splash") && msg.contains("'drop'"),
+            "{msg}"
+        );
+        assert_eq!(i.reset(), Status::Ok);
+        assert_eq!(
+            i.set_string(&[twin("rheology")], &[Some("ucm".into())]),
+            Status::Ok
+        );
+        assert_eq!(
+            i.set_string(&[twin("scheme")], &[None]),
+            Status::Error,
+            "NULL is refused"
+        );
+        i.reset();
+        assert_eq!(i.enter_initialization_mode(), Status::Ok);
+        let mut names = [""; 2];
+        assert_eq!(
+            i.get_string(&[twin("rheology"), twin("equation_of_state")], &mut names),
+            Status::Ok
+        );
+        assert_eq!(
+            names,
+            ["oldroyd_b", "linear"],
+            "reset restored the defaults"
+        );
+        // the Enumeration itself is not a String, nor the twin an Integer
+        assert_eq!(
+            i.get_string(&[vr("rheology")], &mut names[..1]),
+            Status::Error
+        );
+        let mut ints = [0];
+        assert_eq!(i.get_integer(&[twin("rheology")], &mut ints), Status::Error);
+        let msg = log.borrow().last().unwrap().2.clone();
+        assert!(
+            msg.contains("rheology_name") && msg.contains("String"),
+            "{msg}"
+        );
     }
 
     #[test]

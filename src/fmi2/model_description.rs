@@ -12,7 +12,7 @@
 //! (FMI 2.0 section 2.2): CoSimulation, UnitDefinitions, TypeDefinitions, LogCategories,
 //! DefaultExperiment, ModelVariables, ModelStructure.
 
-use crate::config::{range_text, Kind, PARAMS};
+use crate::config::{name_variables, range_text, Kind, ParamSpec, PARAMS};
 use crate::diagnostics::OUTPUTS;
 use std::fmt::Write;
 
@@ -121,6 +121,27 @@ pub fn parameter_description(p: &crate::config::ParamSpec) -> String {
             format!("{}. Allowed range {}", p.description, range_text(&p.kind))
         }
         _ => p.description.to_string(),
+    }
+}
+
+/// Description of the String twin of Enumeration parameter `p`: what it sets and the names
+/// it takes (importers that cannot show TypeDefinitions show this).
+pub fn name_variable_description(p: &ParamSpec) -> String {
+    format!(
+        "{} ({}), by item name: one of {}. Sets the same parameter as the Enumeration '{}' \
+         (the last value set wins); for importers that cannot set Enumerations",
+        p.description,
+        p.name,
+        range_text(&p.kind),
+        p.name
+    )
+}
+
+/// Start value of the String twin of `p`: the Enumeration's default item.
+pub fn name_variable_start(p: &ParamSpec) -> &'static str {
+    match p.kind {
+        Kind::Enumeration { default, .. } => default,
+        _ => unreachable!("twins exist only for enumerations"),
     }
 }
 
@@ -313,6 +334,25 @@ fn document_without_guid() -> String {
         }
         let _ = writeln!(w, "    </ScalarVariable>");
     }
+    let last_output = index;
+    // The String twins of the enumerations, after the outputs so that the indices of the
+    // variables above (and the ModelStructure) are those of earlier versions.
+    for (p, name, vr) in name_variables() {
+        index += 1;
+        let _ = writeln!(w, "    <!-- index {index} -->");
+        let _ = writeln!(
+            w,
+            r#"    <ScalarVariable name="{}" valueReference="{vr}" description="{}" causality="parameter" variability="fixed" initial="exact">"#,
+            escape(&name),
+            escape(&name_variable_description(p))
+        );
+        let _ = writeln!(
+            w,
+            r#"      <String start="{}"/>"#,
+            escape(name_variable_start(p))
+        );
+        let _ = writeln!(w, "    </ScalarVariable>");
+    }
     let _ = writeln!(w, "  </ModelVariables>");
 
     // FMI 2.0 section 2.2.8: every output is listed under Outputs, and, being initial =
@@ -320,12 +360,12 @@ fn document_without_guid() -> String {
     // knowns (here: the parameters), which is the truth.
     let _ = writeln!(w, "  <ModelStructure>");
     let _ = writeln!(w, "    <Outputs>");
-    for i in first_output..=index {
+    for i in first_output..=last_output {
         let _ = writeln!(w, r#"      <Unknown index="{i}"/>"#);
     }
     let _ = writeln!(w, "    </Outputs>");
     let _ = writeln!(w, "    <InitialUnknowns>");
-    for i in first_output..=index {
+    for i in first_output..=last_output {
         let _ = writeln!(w, r#"      <Unknown index="{i}"/>"#);
     }
     let _ = writeln!(w, "    </InitialUnknowns>");

@@ -34,10 +34,7 @@ LAST_SUCCESSFUL_TIME, TERMINATED = 2, 3
 
 def build_fmu():
     """Build target/fmu/ViscoSPH.fmu the way tests/run_all.sh does."""
-    subprocess.run(
-        ["cargo", "run", "--release", "-p", "fmu-build",
-         "--target-dir", str(ROOT / "target" / "fmu-build")],
-        cwd=ROOT, check=True)
+    subprocess.run(["cargo", "run", "--release", "-p", "fmu-build"], cwd=ROOT, check=True)
 
 
 class Log:
