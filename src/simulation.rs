@@ -25,6 +25,7 @@ use crate::scheme::params::Params;
 use crate::scheme::Scheme;
 use crate::state::{Inputs, State};
 use crate::{dispatch_rheology, Vec2};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use thiserror::Error;
 
@@ -39,6 +40,8 @@ pub enum SimError {
     Request(String),
     #[error("saved state could not be restored: {0}")]
     State(String),
+    #[error("interrupted at t = {time:.6e} s (step {step})")]
+    Interrupted { time: f64, step: u64 },
 }
 
 /// What a saved state holds besides the configuration (see [`Simulation::save_state`]).
@@ -73,6 +76,9 @@ pub struct Simulation {
     /// In dense-output mode, the state before the last internal step (at or before `t_comm`),
     /// to go back to when an input changes at `t_comm`.
     rewind: Option<State>,
+    /// Checked before every step: when it is set, `advance_to` stops there (see
+    /// [`Simulation::set_stop_flag`]).
+    stop: Option<Arc<AtomicBool>>,
 }
 
 /// The scheme's constants for an effective configuration of `scene`.
@@ -136,6 +142,7 @@ impl Simulation {
             prev: None,
             exact: false,
             rewind: None,
+            stop: None,
         })
     }
 
@@ -172,6 +179,13 @@ impl Simulation {
     /// The inputs in force.
     pub fn inputs(&self) -> Inputs {
         self.state.inputs
+    }
+
+    /// A flag (set by a signal handler, say) that stops [`Simulation::advance_to`] before its
+    /// next step with [`SimError::Interrupted`]; the state is then the last step's, and the
+    /// communication time moves to it.
+    pub fn set_stop_flag(&mut self, flag: Option<Arc<AtomicBool>>) {
+        self.stop = flag;
     }
 
     /// Set the inputs from the communication time on. A change switches to exact landing on
@@ -225,6 +239,21 @@ impl Simulation {
     fn advance_in_pool(&mut self, t_end: f64) -> Result<(), SimError> {
         let mut last_before: Option<State> = None;
         while self.state.time < t_end {
+            if self
+                .stop
+                .as_ref()
+                .is_some_and(|f| f.load(Ordering::Relaxed))
+            {
+                self.t_comm = self.t_comm.max(self.state.time);
+                if let Some(b) = last_before {
+                    self.prev = Some((b.time, self.scene.outputs(&b, &self.eff)));
+                }
+                self.rewind = None;
+                return Err(SimError::Interrupted {
+                    time: self.state.time,
+                    step: self.state.step,
+                });
+            }
             let before = self.state.clone();
             let max_dt = if self.exact {
                 t_end - self.state.time
@@ -370,13 +399,16 @@ impl Simulation {
         sim.prev = saved.prev;
         sim.exact = saved.exact;
         sim.rewind = saved.rewind;
+        sim.stop = self.stop.take();
         *self = sim;
         Ok(())
     }
 
     /// Back to the initial state of the same configuration (same thread pool).
     pub fn reset(&mut self) -> Result<(), SimError> {
+        let stop = self.stop.take();
         *self = Self::with_pool(self.cfg.clone(), Arc::clone(&self.pool))?;
+        self.stop = stop;
         Ok(())
     }
 }

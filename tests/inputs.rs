@@ -89,3 +89,23 @@ fn inputs_are_checked() {
         .unwrap_err();
     assert!(e.to_string().contains("no plate"), "{e}");
 }
+
+#[test]
+fn a_stop_flag_stops_before_the_next_step() {
+    use std::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::Arc;
+    let mut sim = Simulation::new(drop_cfg()).unwrap();
+    sim.advance_to(0.001).unwrap();
+    let flag = Arc::new(AtomicBool::new(false));
+    sim.set_stop_flag(Some(flag.clone()));
+    flag.store(true, Ordering::Relaxed);
+    let step = sim.state().step;
+    let e = sim.advance_to(0.01).unwrap_err();
+    assert!(matches!(e, viscosph::SimError::Interrupted { .. }), "{e}");
+    // Not one step more; the communication time is the state's.
+    assert_eq!(sim.state().step, step);
+    assert_eq!(sim.time(), sim.state().time);
+    flag.store(false, Ordering::Relaxed);
+    sim.advance_to(0.002).unwrap();
+    assert!(sim.state().step > step);
+}

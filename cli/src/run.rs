@@ -2,7 +2,7 @@
 
 use crate::io::{csv, plot, vtk};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 use viscosph::diagnostics::Outputs;
 use viscosph::simulation::{SimError, Simulation};
@@ -287,43 +287,14 @@ pub fn estimated_steps(sim: &Simulation, t_end: f64) -> f64 {
     (t_end - sim.state().time).max(0.0) / sim.state().last_dt.max(1e-300)
 }
 
-/// Advance to `t` in calls of [`Simulation::advance_to`] a tenth of a second of wall time
-/// long, so that `stop` is seen within about that. Each call to an intermediate time is exact
-/// (steps are never shortened to land on it, so the trajectory does not change), but it costs
-/// one evaluation of the outputs: checking after every single step made the default drop 20-50 %
-/// slower, hence `steps` grows or shrinks to keep the calls about 0.1 s apart.
-/// Returns whether it stopped early.
-fn advance_watching(
-    sim: &mut Simulation,
-    t: f64,
-    stop: Option<&AtomicBool>,
-    steps: &mut f64,
-) -> Result<bool, SimError> {
-    let Some(stop) = stop else {
-        sim.advance_to(t)?;
-        return Ok(false);
-    };
-    while sim.state().time < t {
-        if stop.load(Ordering::Relaxed) {
-            return Ok(true);
-        }
-        let st = sim.state();
-        let next = if st.last_dt > 0.0 {
-            (st.time + (*steps - 0.5) * st.last_dt).min(t)
-        } else {
-            t
-        };
-        let clock = std::time::Instant::now();
-        sim.advance_to(next.max(sim.time()))?;
-        let wall = clock.elapsed().as_secs_f64();
-        if wall < 0.05 {
-            *steps = (*steps * 2.0).min(1e6);
-        } else if wall > 0.2 {
-            *steps = (*steps * 0.5).max(1.0);
-        }
+/// Advance to `t`; the simulation checks the stop flag (see `Simulation::set_stop_flag`) before
+/// every step. Returns whether it stopped early.
+fn advance_watching(sim: &mut Simulation, t: f64) -> Result<bool, SimError> {
+    match sim.advance_to(t) {
+        Ok(()) => Ok(false),
+        Err(SimError::Interrupted { .. }) => Ok(true),
+        Err(e) => Err(e),
     }
-    sim.advance_to(t)?;
-    Ok(false)
 }
 
 /// Run `cfg` to `opts.t_end`, recording outputs every `opts.output_interval`; with an output
@@ -381,14 +352,13 @@ pub fn run(cfg: &SceneConfig, opts: &RunOptions) -> Result<RunResult, Box<dyn st
     };
     let mut error = first.err();
     let mut interrupted = None;
-    let stop = opts.stop.as_deref();
-    let mut steps_per_call = 1.0;
+    sim.set_stop_flag(opts.stop.clone());
     for k in 1..=n_out {
         if error.is_some() {
             break;
         }
         let t = (k as f64 * opts.output_interval).min(opts.t_end);
-        match advance_watching(&mut sim, t, stop, &mut steps_per_call) {
+        match advance_watching(&mut sim, t) {
             Err(e) => {
                 error = Some(e);
                 break;
