@@ -501,6 +501,55 @@ pub fn plot_width_height(
     plot_width_height_marked(path, cfg, runs, None)
 }
 
+/// The channel's `width_height.png`: the centre-line velocity over the steady Newtonian one,
+/// U = rho g H^2 / (8 eta0), and the wall shear stress over rho g H / 2, against t U / H.
+fn plot_channel(
+    path: &Path,
+    cfg: &SceneConfig,
+    runs: &[(String, &[(f64, Outputs)])],
+    ended: Option<(&str, f64)>,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let eff = viscosph::scene::effective_config(cfg);
+    let h = eff.channel_width;
+    let u = eff.density * eff.body_force * h * h / (8.0 * eff.viscosity);
+    let tau = 0.5 * eff.density * eff.body_force * h;
+    let ts = h / u;
+    let mk = |f: &dyn Fn(&Outputs) -> f64| {
+        runs.iter()
+            .map(|(label, s)| plot::Series {
+                label: label.clone(),
+                points: s.iter().map(|(t, o)| (t / ts, f(o))).collect(),
+            })
+            .collect::<Vec<_>>()
+    };
+    let note = match ended {
+        Some((why, t)) => format!(" ({why} at t = {})", time_text(t)),
+        None => String::new(),
+    };
+    let x_label = format!("t U / H [-]   (H/U = {})", time_text(ts));
+    plot::line_panels(
+        path,
+        &[
+            plot::Panel {
+                title: format!("centre-line velocity / U (U = {u:.3} m/s){note}"),
+                x_label: x_label.clone(),
+                y_label: "u_c / U [-]".to_string(),
+                series: mk(&|o| o.centreline_velocity / u),
+                log: (false, false),
+            },
+            plot::Panel {
+                title: format!("wall shear stress / (rho g H / 2) ({tau:.1} Pa){note}"),
+                x_label,
+                y_label: "tau_w / (rho g H / 2) [-]".to_string(),
+                series: mk(&|o| o.wall_shear_stress / tau),
+                log: (false, false),
+            },
+        ],
+        2,
+        (1400, 600),
+    )
+}
+
 /// [`plot_width_height`], with a note in the titles when the run ended early: `ended` is
 /// why ("breakdown", "interrupted") and the time of the last good state.
 pub fn plot_width_height_marked(
@@ -509,6 +558,9 @@ pub fn plot_width_height_marked(
     runs: &[(String, &[(f64, Outputs)])],
     ended: Option<(&str, f64)>,
 ) -> Result<(), Box<dyn std::error::Error>> {
+    if cfg.scene == viscosph::config::Scene::Channel {
+        return plot_channel(path, cfg, runs, ended);
+    }
     let elliptical = cfg.scene == viscosph::config::Scene::EllipticalDrop;
     let (d, ts) = if elliptical {
         (2.0 * viscosph::scene::elliptical_drop::RADIUS, 1e-3)
