@@ -983,7 +983,8 @@ mod tests {
                 "rheology_name",
                 "conformation_method_name",
                 "artificial_stress_kind_name",
-                "equation_of_state_name"
+                "equation_of_state_name",
+                "viscous_operator_name"
             ]
         );
         assert!(name_variable("plate_inclination_name").is_none());

@@ -212,7 +212,15 @@ fn every_variable_matches_the_tables() {
             );
         }
     }
-    assert_eq!(twins, 6);
+    // One per Enumeration parameter of the table.
+    assert_eq!(
+        twins,
+        PARAMS
+            .iter()
+            .filter(|p| matches!(p.kind, Kind::Enumeration { .. }))
+            .count()
+    );
+    assert_eq!(twins, 7);
 
     let ms = child(root, "ModelStructure");
     for list in ["Outputs", "InitialUnknowns"] {
