@@ -104,6 +104,20 @@ impl Channel {
         Ok(())
     }
 
+    /// The channel of a scene configuration (`density`, `viscosity`, `viscosity_ratio`,
+    /// `relaxation_time`) with the given width and body force, the model's parameters as
+    /// configured (UCM and Newtonian limits are the caller's to apply).
+    pub fn from_config(cfg: &crate::config::SceneConfig, width: f64, body_force: f64) -> Self {
+        Channel {
+            density: cfg.density,
+            body_force,
+            width,
+            viscosity: cfg.viscosity,
+            viscosity_ratio: cfg.viscosity_ratio,
+            relaxation_time: cfg.relaxation_time,
+        }
+    }
+
     /// The non-dimensional set-up of King & Lind section IV.A with H = U = 1 and rho = 1:
     /// eta0 = 1/Re, g = 8 eta0 U / (rho H^2) = 8/Re, lambda = Wi H / U = Wi. At Re = 1 this is
     /// their body force g = 8.

@@ -181,14 +181,7 @@ impl WatersKing {
         width: f64,
         body_force: f64,
     ) -> Result<Self, AnalyticError> {
-        let mut ch = Channel {
-            density: cfg.density,
-            body_force,
-            width,
-            viscosity: cfg.viscosity,
-            viscosity_ratio: cfg.viscosity_ratio,
-            relaxation_time: cfg.relaxation_time,
-        };
+        let mut ch = Channel::from_config(cfg, width, body_force);
         match cfg.rheology {
             RheologyKind::OldroydB => {}
             RheologyKind::Ucm => ch.viscosity_ratio = 0.0,
