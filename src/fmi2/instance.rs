@@ -132,6 +132,14 @@ fn lookup(vr: u32) -> Option<Var> {
         .map(Var::Output)
 }
 
+/// The refusal of a set call on an output.
+fn output_cannot_be_set(vr: u32, i: usize) -> Fail {
+    Fail::Error(format!(
+        "'{}' (valueReference {vr}) is an output and cannot be set",
+        OUTPUTS[i].name
+    ))
+}
+
 fn unknown_vr(vr: u32) -> Fail {
     Fail::Error(format!(
         "unknown valueReference {vr}: no variable of modelDescription.xml has it"
@@ -606,12 +614,7 @@ impl Instance {
                             cfg.set(p.name, Value::Text(text.clone()))
                                 .map_err(|e| Fail::Error(format!("'{}': {e}", name_of(&var))))?
                         }
-                        Var::Output(i) => {
-                            return error(format!(
-                                "'{}' (valueReference {vr}) is an output and cannot be set",
-                                OUTPUTS[*i].name
-                            ))
-                        }
+                        Var::Output(i) => return Err(output_cannot_be_set(vr, *i)),
                         _ => return Err(wrong_type(vr, &var, "Set")),
                     }
                 }
@@ -691,12 +694,7 @@ impl Instance {
                         Var::Param(p) if accepts(&p.kind) => cfg
                             .set(p.name, value(x))
                             .map_err(|e| Fail::Error(e.to_string()))?,
-                        Var::Output(i) => {
-                            return error(format!(
-                                "'{}' (valueReference {vr}) is an output and cannot be set",
-                                OUTPUTS[*i].name
-                            ))
-                        }
+                        Var::Output(i) => return Err(output_cannot_be_set(vr, *i)),
                         _ => return Err(wrong_type(vr, &var, "Set")),
                     }
                 }
