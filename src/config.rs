@@ -199,6 +199,10 @@ pub const PARAMS: &[ParamSpec] = &[
     ParamSpec { name: "channel_length", value_reference: 42, kind: real(0.0, 0.0, 1000.0), unit: "m", description: "Channel scene: period along the flow (rounded to whole particle spacings); 0 = channel_width" },
     ParamSpec { name: "body_force", value_reference: 43, kind: real(80.0, 0.0, 1.0e6), unit: "m/s2", description: "Channel scene: body force per unit mass along the channel, switched on at t = 0 (gravity is off in the channel)" },
     ParamSpec { name: "viscous_operator", value_reference: 44, kind: Kind::Enumeration { type_name: "ViscousOperator", items: VISCOUS_OPERATORS, default: "auto" }, unit: "", description: "Weakly compressible schemes: the solvent viscosity inside the stress (Fang's nested operator) or through Morris' Laplacian, which keeps shear layers at walls free of particle-scale zigzag" },
+    ParamSpec { name: "jet_width", value_reference: 45, kind: real_pos(0.006, 10.0), unit: "m", description: "Jet scene: width D of the planar jet at the nozzle exit (King & Lind 2021: 6 mm); particles_per_diameter counts particles across it" },
+    ParamSpec { name: "nozzle_height", value_reference: 46, kind: real_pos(0.072, 100.0), unit: "m", description: "Jet scene: height of the nozzle exit above the impact point, measured vertically (King & Lind 2021: 12 D)" },
+    ParamSpec { name: "jet_velocity", value_reference: 47, kind: real(0.2, 0.0, 100.0), unit: "m/s", description: "Jet scene: speed of the fluid leaving the nozzle, vertically down (King & Lind 2021: 0.2 m/s)" },
+    ParamSpec { name: "container_width", value_reference: 48, kind: real(0.0, 0.0, 100.0), unit: "m", description: "Jet scene: distance between the container's side walls, centred on the impact point and perpendicular to the plate; 0 = no side walls" },
 ];
 
 /// The rheology is built here, next to the table that names its parameters, so that the
@@ -389,6 +393,10 @@ pub struct SceneConfig {
     pub channel_length: f64,
     pub body_force: f64,
     pub viscous_operator: ViscousOperator,
+    pub jet_width: f64,
+    pub nozzle_height: f64,
+    pub jet_velocity: f64,
+    pub container_width: f64,
 }
 
 /// Automatic sound speed over the largest expected flow speed: 10 for about 1 % density
@@ -438,6 +446,10 @@ impl Default for SceneConfig {
             channel_length: 0.0,
             body_force: 0.0,
             viscous_operator: ViscousOperator::Auto,
+            jet_width: 0.0,
+            nozzle_height: 0.0,
+            jet_velocity: 0.0,
+            container_width: 0.0,
         };
         for p in PARAMS {
             let v = match p.kind {
@@ -634,6 +646,10 @@ impl SceneConfig {
             "channel_width" => &mut self.channel_width,
             "channel_length" => &mut self.channel_length,
             "body_force" => &mut self.body_force,
+            "jet_width" => &mut self.jet_width,
+            "nozzle_height" => &mut self.nozzle_height,
+            "jet_velocity" => &mut self.jet_velocity,
+            "container_width" => &mut self.container_width,
             _ => return None,
         })
     }
@@ -650,8 +666,8 @@ impl SceneConfig {
 
     /// Largest speed the scene's fluid can reach from its initial conditions \[m/s\]: for a drop,
     /// the impact speed plus the free fall from its initial height until its lowest point
-    /// touches the plate, sqrt(V^2 + 2 g h_fall); for a jet, sqrt(U0^2 + 2 g H) with H the
-    /// nozzle height (`initial_drop_height`). A flow that spreads or slides afterwards does not
+    /// touches the plate, sqrt(V^2 + 2 g h_fall); for a jet, the free-fall speed at the plate
+    /// sqrt(U0^2 + 2 g H) with U0 = `jet_velocity` and H = `nozzle_height`. A flow that spreads or slides afterwards does not
     /// speed up much beyond it (viscosity and the plate take energy out), which is what makes
     /// it the reference for the sound speed. At least 1 mm/s, so a scene with nothing moving
     /// still gets a finite time step. The elliptical drop fixes its own c (its scene sets it).
@@ -662,7 +678,13 @@ impl SceneConfig {
                 let theta = self.plate_inclination.to_radians();
                 (self.drop_height - 0.5 * self.drop_diameter / theta.cos()).max(0.0)
             }
-            Scene::Jet | Scene::EllipticalDrop => self.drop_height.max(0.0),
+            Scene::Jet => {
+                let u0 = self.jet_velocity;
+                return (u0 * u0 + 2.0 * self.gravity * self.nozzle_height)
+                    .sqrt()
+                    .max(1e-3);
+            }
+            Scene::EllipticalDrop => self.drop_height.max(0.0),
             Scene::Channel => {
                 // The steady Newtonian centre-line speed U = rho g H^2 / (8 eta0); an elastic
                 // start-up overshoots it (Waters & King 1970: 2.85 U at Re = Wi = 1, more when

@@ -23,10 +23,13 @@
 //! | `flow_rate` | channel: sum of V_i u_i over the period length, the flow rate per unit depth; 0 elsewhere |
 //! | `wall_shear_stress` | channel: force of the fluid on both walls along the flow, over twice the period length; 0 elsewhere |
 //! | `plate_displacement` | distance the plate has moved along -n (the integral of the `plate_velocity` input); 0 without a plate |
+//! | `injected_mass` | jet: mass that has entered through the nozzle since t = 0 [kg/m]; 0 elsewhere |
+//! | `jet_deflection` | jet: horizontal offset of the falling column from the nozzle axis one jet width above the heap (see [`crate::scene::jet`]); 0 elsewhere |
 //!
 //! Outputs that do not apply to a scene hold 0 (`min_conformation_det` 1), never NaN: the drop
 //! fills the drop outputs, the channel its three and the health figures; the elliptical drop
-//! fills width and height as its extents along x and y.
+//! fills width and height as its extents along x and y; the jet measures width, height and spread
+//! on the heap only (see [`crate::scene::jet`]), and its wall forces are those on all its walls.
 //!
 //! At a communication time between two internal steps, every output is interpolated linearly
 //! between the two internal states (see `Simulation::advance_to`), so outputs at a given time do
@@ -72,10 +75,12 @@ pub const OUTPUTS: &[OutputSpec] = &[
     OutputSpec { name: "flow_rate", value_reference: 115, unit: "m2/s", description: "Channel: volume flow rate per unit depth (0 in other scenes)" },
     OutputSpec { name: "wall_shear_stress", value_reference: 116, unit: "Pa", description: "Channel: shear stress of the fluid on the walls, mean of both, positive along the flow (0 in other scenes)" },
     OutputSpec { name: "plate_displacement", value_reference: 117, unit: "m", description: "Distance the plate has moved along its normal, away from the fluid, driven by the plate_velocity input" },
+    OutputSpec { name: "injected_mass", value_reference: 118, unit: "kg/m", description: "Jet: mass per unit depth that has entered through the nozzle since t = 0 (0 in other scenes)" },
+    OutputSpec { name: "jet_deflection", value_reference: 119, unit: "m", description: "Jet: horizontal offset of the falling column from the nozzle axis, one jet width above the heap (0 in other scenes)" },
 ];
 
 /// Number of outputs.
-pub const N_OUTPUTS: usize = 17;
+pub const N_OUTPUTS: usize = 19;
 const _: () = assert!(OUTPUTS.len() == N_OUTPUTS);
 
 /// `values` and `set_values` from one list of the fields, in the order of [`OUTPUTS`].
@@ -112,6 +117,8 @@ pub struct Outputs {
     pub flow_rate: f64,
     pub wall_shear_stress: f64,
     pub plate_displacement: f64,
+    pub injected_mass: f64,
+    pub jet_deflection: f64,
 }
 
 impl Outputs {
@@ -133,6 +140,8 @@ impl Outputs {
         flow_rate,
         wall_shear_stress,
         plate_displacement,
+        injected_mass,
+        jet_deflection,
     );
 
     /// Value of an output by name.

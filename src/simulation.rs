@@ -128,7 +128,8 @@ impl Simulation {
             elastic(&m).then(|| m.rest_conformation())
         });
         let (fluid, walls) = scene.build(&eff, rest);
-        let state = State::new(fluid, walls);
+        let mut state = State::new(fluid, walls);
+        scene.init_state(&eff, &mut state);
         let (scheme, elastic) = crate::scheme::build(&eff, params(scene, &eff), &state.walls)?;
         Ok(Self {
             cfg,

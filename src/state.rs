@@ -3,7 +3,7 @@
 
 use crate::boundary::plate::Plate;
 use crate::particles::Fluid;
-use crate::Vec2;
+use crate::{Mat2, Vec2};
 use serde::{Deserialize, Serialize};
 
 /// The continuous inputs a co-simulation master may change between communication points. They
@@ -12,6 +12,29 @@ use serde::{Deserialize, Serialize};
 pub struct Inputs {
     /// Velocity of the plate along its normal, positive away from the fluid [m/s].
     pub plate_velocity: f64,
+}
+
+/// Bookkeeping of an inlet through which particles enter during a run (the jet's nozzle): what
+/// has entered so far, in a form that makes the mass exact to the lattice. Particles themselves
+/// carry no inlet flag: whether one is still in the inlet is a matter of its position (the scene
+/// knows the inlet's region), so nothing breaks when the particles are reordered.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct Inflow {
+    /// Inflow velocity in force since the last update [m/s] (the `jet_velocity` input).
+    pub velocity: f64,
+    /// Length of fluid that has entered since the last row was emitted, in [0, dx) [m].
+    pub phase: f64,
+    /// Time of the last update [s].
+    pub updated: f64,
+    /// Rows emitted since t = 0.
+    pub rows: u64,
+    /// Particles emitted since t = 0.
+    pub particles: u64,
+    /// Momentum the inlet has given the fluid since t = 0 [kg m/s per m depth]: the emitted
+    /// particles' and every reset of the inlet particles' velocity to the prescribed one.
+    pub momentum: Vec2,
+    /// Conformation tensor of the fluid entering (the model's at rest; unused without one).
+    pub conformation: Mat2,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -35,6 +58,8 @@ pub struct State {
     /// How many times a fluid particle was put back above the plate by the impenetrability
     /// condition of Fang's walls (see [`crate::scheme::wcsph`]).
     pub wall_reflections: u64,
+    /// The inlet's bookkeeping, for scenes with inflow (the jet); None otherwise.
+    pub inflow: Option<Inflow>,
 }
 
 impl State {
@@ -51,6 +76,7 @@ impl State {
             last_dt: 0.0,
             void_fraction: 0.0,
             wall_reflections: 0,
+            inflow: None,
         }
     }
 

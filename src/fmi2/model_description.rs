@@ -93,6 +93,7 @@ const UNITS: &[UnitDef] = &[
     unit("J/m", 1, 1, -2),
     unit("m2/s", 0, 2, -1),
     unit("Pa", 1, -1, -2),
+    unit("kg/m", 1, -1, 0),
 ];
 
 /// Escape text for an XML attribute value.

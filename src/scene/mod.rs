@@ -5,6 +5,7 @@
 pub mod channel;
 pub mod drop;
 pub mod elliptical_drop;
+pub mod jet;
 
 use crate::boundary::plate::Plate;
 use crate::config::{self, ConfigError, SceneConfig};
@@ -52,6 +53,10 @@ pub trait Scene: Send + Sync {
         1000.0 * cfg.drop_diameter + 10.0 * cfg.drop_height
     }
 
+    /// Completes the initial state made of [`Scene::build`]'s fluid and walls (the jet's inflow
+    /// bookkeeping).
+    fn init_state(&self, _cfg: &SceneConfig, _st: &mut State) {}
+
     /// Called before every step (inflow).
     fn before_step(&self, _cfg: &SceneConfig, _st: &mut State) {}
 
@@ -74,9 +79,7 @@ pub fn for_config(cfg: &SceneConfig) -> Result<&'static dyn Scene, ConfigError> 
         config::Scene::Drop => Ok(&drop::Drop),
         config::Scene::EllipticalDrop => Ok(&elliptical_drop::EllipticalDrop),
         config::Scene::Channel => Ok(&channel::Channel),
-        config::Scene::Jet => Err(ConfigError::Inconsistent(
-            "scene 'jet' is not implemented yet; use scene = 'drop' or 'elliptical_drop'".into(),
-        )),
+        config::Scene::Jet => Ok(&jet::Jet),
     }
 }
 

@@ -1,0 +1,200 @@
+//! Acceptance tests of the buckling jet (issue 13) at resolutions that keep the suite fast:
+//! King & Lind 2021 section IV.D's fluid (eta0 = 8.8 Pa s, rho = 1023 kg/m3, D = 6 mm,
+//! U0 = 0.2 m/s, Re = 0.14), Newtonian unless stated, with a few particles across the jet.
+
+mod common;
+
+use common::{i, r, s};
+use viscosph::config::{SceneConfig, Value};
+use viscosph::scene::jet::{buckling, Nozzle};
+use viscosph::simulation::Simulation;
+use viscosph::Vec2;
+
+const D: f64 = 0.006;
+const U0: f64 = 0.2;
+const RHO: f64 = 1023.0;
+
+/// King & Lind's jet, Newtonian, `n` particles across, nozzle `h_over_d` jet widths above the
+/// plate, plus `extra` settings.
+fn cfg(n: i64, h_over_d: f64, extra: &[(&str, Value)]) -> SceneConfig {
+    let mut c = SceneConfig::default();
+    for (k, v) in [
+        ("scene", s("jet")),
+        ("rheology", s("newtonian")),
+        ("density", r(RHO)),
+        ("viscosity", r(8.8)),
+        ("viscosity_ratio", r(0.2)),
+        ("relaxation_time", r(0.05)),
+        ("jet_width", r(D)),
+        ("jet_velocity", r(U0)),
+        ("nozzle_height", r(h_over_d * D)),
+        ("particles_per_diameter", i(n)),
+    ]
+    .into_iter()
+    .chain(extra.iter().cloned())
+    {
+        c.set(k, v).unwrap();
+    }
+    Simulation::validate(&c).unwrap();
+    c
+}
+
+/// One step at a time (advance_to just past the state's own time takes exactly one step), with
+/// the time integral of the fluid's mass over the steps: particles enter only before a step, so
+/// the mass after a step is the mass during it.
+fn run_stepwise(sim: &mut Simulation, t_end: f64, mut each: impl FnMut(&Simulation)) -> f64 {
+    let mut mass_time = 0.0;
+    while sim.state().time < t_end {
+        let t0 = sim.state().time;
+        sim.advance_to(t0 + 1e-12).unwrap();
+        mass_time += sim.fluid_mass() * (sim.state().time - t0);
+        each(sim);
+    }
+    mass_time
+}
+
+#[test]
+fn mass_enters_at_rho_u0_d_and_nothing_is_lost() {
+    let c = cfg(6, 4.0, &[]);
+    let mut sim = Simulation::new(c.clone()).unwrap();
+    let eff = sim.effective_config().clone();
+    let dx = eff.dx();
+    let n0 = sim.state().fluid.len();
+    let row = RHO * D * dx;
+    assert!((sim.state().fluid.mass * 6.0 - row).abs() < 1e-15);
+    let nz = Nozzle::from_config(&eff);
+    let mut checked = 0;
+    let mut worst: f64 = 0.0;
+    run_stepwise(&mut sim, 0.15, |sim| {
+        let st = sim.state();
+        let inflow = st.inflow.unwrap();
+        let o = viscosph::scene::for_config(sim.config())
+            .unwrap()
+            .outputs(st, &eff);
+        // Exact to the lattice: within one row of rho U0 D t. Rows are emitted before a step,
+        // so the count may lag by what entered during the last step, rho U0 D dt.
+        let expected = RHO * U0 * D * st.time;
+        let lag = RHO * U0 * D * st.last_dt;
+        worst = worst.max((o.injected_mass - expected).abs() / row);
+        assert!(
+            (o.injected_mass - expected).abs() <= row + lag,
+            "t = {}: injected {} kg/m against rho U0 D t = {expected}",
+            st.time,
+            o.injected_mass
+        );
+        // Nothing is lost: every particle that ever entered is still there.
+        assert_eq!(st.fluid.len(), n0 + inflow.particles as usize);
+        assert_eq!(o.particle_count, st.fluid.len() as f64);
+        assert_eq!(inflow.particles, 6 * inflow.rows);
+        assert!(st.fluid.x.iter().all(|x| x.iter().all(|v| v.is_finite())));
+        checked += 1;
+    });
+    assert!(checked > 1000, "{checked} steps");
+    // The fluid has left the nozzle and reached the plate by then.
+    let st = sim.state();
+    let outside = st.fluid.x.iter().filter(|x| !nz.contains(x)).count();
+    assert!(outside as f64 > 0.5 * st.fluid.len() as f64);
+    let o = sim.outputs();
+    assert!(o.drop_width > 1.5 * D, "heap {} m wide", o.drop_width);
+    assert!(o.wall_force_normal > 0.0);
+    println!("largest distance from rho U0 D t: {worst:.3} rows");
+}
+
+#[test]
+fn wall_impulse_balances_inflow_gravity_and_momentum_held() {
+    let c = cfg(6, 4.0, &[]);
+    let mut sim = Simulation::new(c).unwrap();
+    let p0 = sim.fluid_momentum();
+    let g = sim.effective_config().gravity;
+    let mass_time = run_stepwise(&mut sim, 0.2, |_| {});
+    let st = sim.state();
+    let inflow = st.inflow.unwrap();
+    // d P / dt = M g + F_wall->fluid + inflow: the wall impulse (fluid on wall) is the momentum
+    // brought in plus the gravity impulse minus the momentum held now.
+    let entered = p0 + inflow.momentum;
+    let expected = entered + Vec2::new(0.0, -g * mass_time) - sim.fluid_momentum();
+    let w = st.wall_impulse;
+    assert!(w.y < 0.0, "the fluid pushes the plate down: {w:?}");
+    let err = (w - expected).norm() / w.norm();
+    assert!(
+        err < 0.03,
+        "wall impulse {w:?} against {expected:?} ({err:.2e})"
+    );
+    // The inflow is more than the momentum of the mass that entered at U0: the nozzle also
+    // holds its particles against gravity and against the pull of the falling jet below.
+    let nominal = -U0 * sim.state().fluid.mass * inflow.particles as f64;
+    assert!(
+        inflow.momentum.y < nominal,
+        "{} vs {nominal}",
+        inflow.momentum.y
+    );
+    println!(
+        "wall impulse {:.6e} N s/m, balance error {err:.2e}; inflow {:.4e} = {:.4e} (mass x U0) \
+         + {:.4e} (nozzle)",
+        w.y,
+        inflow.momentum.y,
+        nominal,
+        inflow.momentum.y - nominal
+    );
+}
+
+#[test]
+fn outputs_are_bitwise_identical_on_one_and_two_threads() {
+    let run = |threads: i64| {
+        let c = cfg(
+            4,
+            4.0,
+            &[("threads", i(threads)), ("rheology", s("oldroyd_b"))],
+        );
+        let mut sim = Simulation::new(c).unwrap();
+        let (ser, err) = sim.record(0.1, 0.01);
+        assert!(err.is_none(), "{err:?}");
+        assert!(sim.state().inflow.unwrap().rows > 0);
+        let bits: Vec<u64> = ser
+            .iter()
+            .flat_map(|(t, o)| std::iter::once(*t).chain(o.values()))
+            .map(f64::to_bits)
+            .collect();
+        (bits, sim.state().clone())
+    };
+    assert_eq!(run(1), run(2));
+}
+
+#[test]
+fn save_and_restore_while_particles_enter_continue_identically() {
+    for scheme in ["wcsph", "pdri"] {
+        let c = cfg(
+            4,
+            4.0,
+            &[("scheme", s(scheme)), ("rheology", s("oldroyd_b"))],
+        );
+        let mut a = Simulation::new(c.clone()).unwrap();
+        a.advance_to(0.043).unwrap();
+        let saved = a.save_state();
+        let count = a.state().fluid.len();
+        a.advance_to(0.08).unwrap();
+        assert!(
+            a.state().fluid.len() > count,
+            "particles entered after the save"
+        );
+        let mut b = Simulation::new(c).unwrap();
+        b.restore_state(&saved).unwrap();
+        assert_eq!(b.state().fluid.len(), count);
+        b.advance_to(0.08).unwrap();
+        assert_eq!(a.outputs(), b.outputs(), "{scheme}");
+        assert_eq!(a.save_state(), b.save_state(), "{scheme}");
+    }
+}
+
+#[test]
+fn newtonian_jet_buckles_from_twelve_jet_widths() {
+    let c = cfg(4, 12.0, &[]);
+    let mut sim = Simulation::new(c).unwrap();
+    let (ser, err) = sim.record(0.8, 0.005);
+    assert!(err.is_none(), "{err:?}");
+    let b = buckling(&ser, D);
+    let impact = b.impact.expect("the jet reaches the plate");
+    assert!(impact > 0.1 && impact < 0.4, "impact at {impact} s");
+    assert!(b.amplitude > 0.25 * D, "amplitude {} m", b.amplitude);
+    println!("{b:?}");
+}
