@@ -128,6 +128,9 @@ fn main() -> ExitCode {
                             e.fitted_product
                         );
                     }
+                    if let Some(text) = viscosph_cli::jet::summary(&cfg, &r.series) {
+                        println!("{text}");
+                    }
                     if let Some(e) = r.error {
                         eprintln!("error: {e}");
                         return ExitCode::from(1);

@@ -223,6 +223,10 @@ fn snapshot(sim: &Simulation, ts: f64) -> plot::Snapshot {
             format!("t = {}", time_text(sim.time()))
         },
         plate_inclination: has_plate.then_some(eff.plate_inclination),
+        nozzle: (eff.scene == viscosph::config::Scene::Jet).then(|| {
+            let w = 0.5 * eff.jet_width;
+            (-w, w, eff.nozzle_height)
+        }),
         spacing: eff.dx(),
         points: f.x.iter().map(|p| (p.x, p.y)).collect(),
         values: colour_field(sim).1,
@@ -447,7 +451,12 @@ pub fn run(cfg: &SceneConfig, opts: &RunOptions) -> Result<RunResult, Box<dyn st
                 &particles_title(sim.effective_config(), field),
                 &shots,
                 field,
-                3,
+                // A jet is tall and narrow: one row of tall panels.
+                if sim.effective_config().scene == viscosph::config::Scene::Jet {
+                    shots.len().clamp(1, 6)
+                } else {
+                    3
+                },
                 (1700, 1250),
             ),
             "write",
@@ -476,6 +485,17 @@ fn particles_title(eff: &SceneConfig, field: &str) -> String {
             eff.rheology,
             1e3 * eff.channel_width,
             eff.body_force,
+            eff.scheme,
+            eff.particles_per_diameter
+        ),
+        viscosph::config::Scene::Jet => format!(
+            "{} jet, D = {} mm, U0 = {} m/s, nozzle {:.1} D above a plate at {} deg ({}, {} \
+             across): coloured by {field}",
+            eff.rheology,
+            1e3 * eff.jet_width,
+            eff.jet_velocity,
+            eff.nozzle_height / eff.jet_width,
+            eff.plate_inclination,
             eff.scheme,
             eff.particles_per_diameter
         ),

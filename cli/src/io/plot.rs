@@ -229,6 +229,8 @@ pub struct Snapshot {
     /// The plate surface: a line through the origin inclined by this angle \[deg\], running
     /// downhill towards +x; `None` for scenes without a plate.
     pub plate_inclination: Option<f64>,
+    /// A nozzle to draw: its exit from x = .0 to .1 at height .2, walls up from there \[m\].
+    pub nozzle: Option<(f64, f64, f64)>,
 }
 
 /// Perceptually ordered colour map (anchors of matplotlib's viridis), `t` in \[0, 1\].
@@ -409,7 +411,7 @@ pub fn particle_snapshots(
         };
         // Dots a third of the particle spacing across: the lattice and any gaps stay visible.
         let px_per_m = pw / (x1 - x0);
-        let r = (0.22 * shot.spacing * px_per_m).round().clamp(0.0, 6.0) as i32;
+        let r = (0.22 * shot.spacing * px_per_m).round().clamp(1.0, 6.0) as i32;
         // plotters does not clip elements placed by pixel offsets: keep only what is inside.
         let inside = |p: &&(f64, f64)| p.0 >= x0 && p.0 <= x1 && p.1 >= y0 && p.1 <= y1;
         chart.draw_series(
@@ -422,6 +424,16 @@ pub fn particle_snapshots(
             if let Some([p, q]) = clip_plate(a, (x0, x1), (y0, y1)) {
                 chart.draw_series(std::iter::once(PathElement::new(
                     vec![(p.0 * scale, p.1 * scale), (q.0 * scale, q.1 * scale)],
+                    RGBColor(40, 40, 40).stroke_width(3),
+                )))?;
+            }
+        }
+        if let Some((a, b, y)) = shot.nozzle {
+            // The nozzle's two walls, from the exit up to the top of the window.
+            let top = y1.max(y);
+            for x in [a, b] {
+                chart.draw_series(std::iter::once(PathElement::new(
+                    vec![(x * scale, y * scale), (x * scale, top * scale)],
                     RGBColor(40, 40, 40).stroke_width(3),
                 )))?;
             }
