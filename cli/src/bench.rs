@@ -44,6 +44,8 @@ pub enum BenchKind {
     /// Fang's drop (De = 1, beta = 0.1) with every rheology: W*(t*) and H*(t*) overlaid, like
     /// King & Lind's Fig. 16.
     Rheologies,
+    /// King & Lind's buckling jet: Wi, FENE and Giesekus sweeps and the Newtonian fall height.
+    Jet,
     /// Redraw the PNGs that the CSV files in --out hold the data of (accuracy.png), without
     /// running anything: for a change of the plot style.
     Replot,
@@ -67,6 +69,7 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
         BenchKind::Stability => Some("stability"),
         BenchKind::Accuracy => Some("accuracy"),
         BenchKind::Rheologies => Some("rheologies"),
+        BenchKind::Jet => Some("jet"),
         BenchKind::Report { .. } | BenchKind::Replot => None,
     };
     let report = match args.what {
@@ -75,6 +78,7 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
         BenchKind::Stability => bench_stability(&args.out, args.quick)?,
         BenchKind::Accuracy => bench_accuracy(&args.out, args.quick)?,
         BenchKind::Rheologies => bench_rheologies(&args.out, args.quick)?,
+        BenchKind::Jet => crate::bench_jet::bench_jet(&args.out, args.quick)?,
         BenchKind::Report { ref docs } => bench_report(&args.out, docs)?,
         BenchKind::Replot => bench_replot(&args.out)?,
     };

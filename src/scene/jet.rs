@@ -35,7 +35,7 @@
 //! | `drop_width` | along-plate extent of the heap + dx (0 before impact) |
 //! | `drop_height` | largest distance of heap particles from the plate + dx/2 (0 before impact) |
 //! | `spread_front`, `spread_back` | downhill and uphill reach of the heap along the plate, as for the drop |
-//! | `jet_deflection` | horizontal offset from the nozzle axis of the centre of the free particles near the height (their mean x, weighted by 1 - |y - y_m| / 2dx over |y - y_m| < 2 dx, so that particles enter and leave the band smoothly) y_m = min(y_heap + D, H - D/2), where y_heap is the vertical height above the impact point of the heap's top (its highest particle + dx/2; 0 before impact): one jet width above the heap, where only the falling column is, unless the heap comes within 3D/2 of the nozzle (low nozzles), when the band is half a jet width below the exit and cuts the column where it enters the heap. 0 while no particle is there. It stays near 0 while the jet falls straight and oscillates when it buckles |
+//! | `jet_deflection` | horizontal offset from the nozzle axis of the centre of the free particles near the height (their mean x, weighted by 1 - |y - y_m| / 2dx over |y - y_m| < 2 dx, so that particles enter and leave the band smoothly, and within 2D of the axis, the column's reach: beyond it at that height is heap spreading sideways) y_m = min(y_heap + D, H - D/2), where y_heap is the vertical height above the impact point of the heap's top (its highest particle + dx/2; 0 before impact): one jet width above the heap, where only the falling column is, unless the heap comes within 3D/2 of the nozzle (low nozzles), when the band is half a jet width below the exit and cuts the column where it enters the heap. 0 while no particle is there. It stays near 0 while the jet falls straight and oscillates when it buckles |
 //!
 //! [`buckling`] turns a record of `jet_deflection` into the onset time, frequency and amplitude
 //! of the buckling.
@@ -326,7 +326,7 @@ impl Scene for Jet {
         let (mut sum, mut weight) = (0.0, 0.0);
         for i in 0..fl.len() {
             let w = 1.0 - (fl.x[i].y - y_m).abs() / (2.0 * dx);
-            if w > 0.0 && !nz.contains(&fl.x[i]) {
+            if w > 0.0 && fl.x[i].x.abs() < 2.0 * cfg.jet_width && !nz.contains(&fl.x[i]) {
                 sum += w * fl.x[i].x;
                 weight += w;
             }
