@@ -198,6 +198,7 @@ pub const PARAMS: &[ParamSpec] = &[
     ParamSpec { name: "channel_width", value_reference: 41, kind: real_pos(0.02, 100.0), unit: "m", description: "Channel scene: distance H between the two walls; particles_per_diameter counts particles across it" },
     ParamSpec { name: "channel_length", value_reference: 42, kind: real(0.0, 0.0, 1000.0), unit: "m", description: "Channel scene: period along the flow (rounded to whole particle spacings); 0 = channel_width" },
     ParamSpec { name: "body_force", value_reference: 43, kind: real(80.0, 0.0, 1.0e6), unit: "m/s2", description: "Channel scene: body force per unit mass along the channel, switched on at t = 0 (gravity is off in the channel)" },
+    ParamSpec { name: "plate_velocity", value_reference: 60, kind: real(0.0, -1000.0, 1000.0), unit: "m/s", description: "Input: velocity of the plate along its normal, positive away from the fluid; the plate moves rigidly and the walls follow. A co-simulation master may change it at every communication point; this is its start value" },
     ParamSpec { name: "viscous_operator", value_reference: 44, kind: Kind::Enumeration { type_name: "ViscousOperator", items: VISCOUS_OPERATORS, default: "auto" }, unit: "", description: "Weakly compressible schemes: the solvent viscosity inside the stress (Fang's nested operator) or through Morris' Laplacian, which keeps shear layers at walls free of particle-scale zigzag" },
 ];
 
@@ -258,6 +259,21 @@ pub fn param_spec(name: &str) -> Option<&'static ParamSpec> {
 /// The parameter with a given FMU value reference.
 pub fn param_by_vr(vr: u32) -> Option<&'static ParamSpec> {
     PARAMS.iter().find(|p| p.value_reference == vr)
+}
+
+/// The rows of [`PARAMS`] that are FMU *inputs* (causality "input", variability "continuous")
+/// rather than fixed parameters: a co-simulation master may set them again after
+/// initialization, at every communication point (FMI 2.0 section 2.2.7, and section 4.2.4 for
+/// Co-Simulation). Their table row gives the start value, the range and the scene-file key, so
+/// a scene file sets an input's start value by its name like any parameter. In the running
+/// simulation they live in [`crate::state::Inputs`].
+pub const INPUT_NAMES: &[&str] = &["plate_velocity"];
+
+impl ParamSpec {
+    /// Whether this row is an input (see [`INPUT_NAMES`]).
+    pub fn is_input(&self) -> bool {
+        INPUT_NAMES.contains(&self.name)
+    }
 }
 
 /// Value reference of an enumeration's String twin: the enumeration's own plus this offset, so
@@ -389,6 +405,8 @@ pub struct SceneConfig {
     pub channel_length: f64,
     pub body_force: f64,
     pub viscous_operator: ViscousOperator,
+    /// Start value of the input `plate_velocity` (see [`INPUT_NAMES`]).
+    pub plate_velocity: f64,
 }
 
 /// Automatic sound speed over the largest expected flow speed: 10 for about 1 % density
@@ -438,6 +456,7 @@ impl Default for SceneConfig {
             channel_length: 0.0,
             body_force: 0.0,
             viscous_operator: ViscousOperator::Auto,
+            plate_velocity: 0.0,
         };
         for p in PARAMS {
             let v = match p.kind {
@@ -634,8 +653,16 @@ impl SceneConfig {
             "channel_width" => &mut self.channel_width,
             "channel_length" => &mut self.channel_length,
             "body_force" => &mut self.body_force,
+            "plate_velocity" => &mut self.plate_velocity,
             _ => return None,
         })
+    }
+
+    /// The start values of the inputs (see [`INPUT_NAMES`]).
+    pub fn inputs(&self) -> crate::state::Inputs {
+        crate::state::Inputs {
+            plate_velocity: self.plate_velocity,
+        }
     }
 
     /// Particle spacing dx = D / particles_per_diameter (Fang 2006 section 4: a Cartesian lattice).

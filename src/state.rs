@@ -54,6 +54,14 @@ impl State {
         }
     }
 
+    /// Put `inputs` in force: the plate (the first wall) takes the input velocity.
+    pub fn apply_inputs(&mut self, inputs: Inputs) {
+        self.inputs = inputs;
+        if let Some(plate) = self.walls.first_mut() {
+            plate.velocity = inputs.plate_velocity;
+        }
+    }
+
     /// The plate (the first wall), if there is one.
     pub fn plate(&self) -> Option<&Plate> {
         self.walls.first()
