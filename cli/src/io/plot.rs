@@ -84,6 +84,23 @@ fn tick(v: f64) -> String {
     }
 }
 
+/// A tick label on a log axis: only at 1, 2 and 5 times a power of ten, because plotters puts a
+/// tick at every integer multiple and their labels run into each other near the end of a decade.
+fn log_tick(v: f64) -> String {
+    if !(v > 0.0) {
+        return String::new();
+    }
+    let mantissa = v / 10f64.powf(v.log10().floor());
+    if [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .any(|m| (mantissa - m).abs() < 1e-6 * m)
+    {
+        tick(v)
+    } else {
+        String::new()
+    }
+}
+
 /// The corner of a panel with the fewest data points near it, for the legend.
 fn legend_corner(panel: &Panel, xs: (f64, f64), ys: (f64, f64)) -> SeriesLabelPosition {
     let frac = |v: f64, (lo, hi): (f64, f64), log: bool| {
@@ -158,14 +175,14 @@ fn draw_panel(
                 .y_labels(8)
                 .x_label_formatter(&|v| {
                     if panel.log.0 {
-                        tick(*v)
+                        log_tick(*v)
                     } else {
                         tick_in(*v, xs.1 - xs.0)
                     }
                 })
                 .y_label_formatter(&|v| {
                     if panel.log.1 {
-                        tick(*v)
+                        log_tick(*v)
                     } else {
                         tick_in(*v, ys.1 - ys.0)
                     }
@@ -555,4 +572,42 @@ pub fn status_grid(
     }
     root.present()?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn log_ticks_are_labelled_at_one_two_five_only() {
+        let labels: Vec<String> = [7.0, 10.0, 20.0, 30.0, 50.0, 70.0, 90.0, 100.0, 0.002]
+            .iter()
+            .map(|v| log_tick(*v))
+            .collect();
+        assert_eq!(labels, ["", "10", "20", "", "50", "", "", "100", "2.0e-3"]);
+        assert_eq!(log_tick(0.0), "");
+    }
+
+    /// Draws a cost-against-error panel like the benchmark's to `VISCOSPH_PLOT_DIR` (for a
+    /// person to look at) or a temporary directory, and checks it is a PNG of the asked size.
+    #[test]
+    fn a_log_log_panel_draws() {
+        let dir = std::env::var_os("VISCOSPH_PLOT_DIR")
+            .map(std::path::PathBuf::from)
+            .unwrap_or_else(std::env::temp_dir);
+        let path = dir.join("viscosph_log_panel.png");
+        let panel = Panel {
+            title: "cost against difference".into(),
+            x_label: "wall time [s]".into(),
+            y_label: "error [-]".into(),
+            series: vec![Series {
+                label: "a".into(),
+                points: vec![(6.0, 0.25), (70.0, 0.07), (104.0, 0.04)],
+            }],
+            log: (true, true),
+        };
+        line_panels(&path, &[panel], 1, (640, 480)).unwrap();
+        let bytes = std::fs::read(&path).unwrap();
+        assert_eq!(&bytes[1..4], b"PNG");
+    }
 }
