@@ -87,7 +87,7 @@ fn tick(v: f64) -> String {
 /// A tick label on a log axis: only at 1, 2 and 5 times a power of ten, because plotters puts a
 /// tick at every integer multiple and their labels run into each other near the end of a decade.
 fn log_tick(v: f64) -> String {
-    if !(v > 0.0) {
+    if v.is_nan() || v <= 0.0 {
         return String::new();
     }
     let mantissa = v / 10f64.powf(v.log10().floor());
