@@ -9,6 +9,8 @@
 //! A case is a named [`SceneConfig`]; adding a scheme or a scene to a benchmark is adding a line to
 //! its case list.
 
+pub mod channel;
+
 use crate::io::plot::{line_panels, status_grid, Panel, Series};
 use crate::run::{run, time_scale, RunOptions};
 use clap::{Args, Subcommand};
@@ -44,6 +46,9 @@ pub enum BenchKind {
     /// Fang's drop (De = 1, beta = 0.1) with every rheology: W*(t*) and H*(t*) overlaid, like
     /// King & Lind's Fig. 16.
     Rheologies,
+    /// Start-up Poiseuille flow against Waters & King: accuracy and order, King & Lind's Wi
+    /// sweeps, the non-linear models' steady profiles (see `bench/channel.rs`).
+    Channel(channel::ChannelArgs),
     /// Redraw the PNGs that the CSV files in --out hold the data of (accuracy.png), without
     /// running anything: for a change of the plot style.
     Replot,
@@ -67,6 +72,7 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
         BenchKind::Stability => Some("stability"),
         BenchKind::Accuracy => Some("accuracy"),
         BenchKind::Rheologies => Some("rheologies"),
+        BenchKind::Channel(_) => Some("channel"),
         BenchKind::Report { .. } | BenchKind::Replot => None,
     };
     let report = match args.what {
@@ -75,6 +81,7 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
         BenchKind::Stability => bench_stability(&args.out, args.quick)?,
         BenchKind::Accuracy => bench_accuracy(&args.out, args.quick)?,
         BenchKind::Rheologies => bench_rheologies(&args.out, args.quick)?,
+        BenchKind::Channel(ref c) => channel::main(c, &args.out, args.quick)?,
         BenchKind::Report { ref docs } => bench_report(&args.out, docs)?,
         BenchKind::Replot => bench_replot(&args.out)?,
     };
@@ -833,6 +840,16 @@ const REPORT_SECTIONS: &[(&str, &str, &str, &[&str])] = &[
         "viscosph bench rheologies",
         "rheologies.md",
         &["rheologies.png"],
+    ),
+    (
+        "Channel: start-up Poiseuille flow (King & Lind section IV.A)",
+        "viscosph bench channel",
+        "channel.md",
+        &[
+            "channel_accuracy.png",
+            "channel_wi.png",
+            "channel_nonlinear.png",
+        ],
     ),
     (
         "PySPH side by side",
