@@ -45,7 +45,7 @@ def parse_start_values(pairs, md):
         name, sep, text = pair.partition("=")
         if not sep:
             raise ValueError(f"--set {pair}: expected NAME=VALUE")
-        if name not in variables or variables[name].causality != "parameter":
+        if name not in variables or variables[name].causality not in ("parameter", "input"):
             known = ", ".join(v.name for v in md.modelVariables if v.causality == "parameter")
             raise ValueError(f"unknown parameter '{name}'; the parameters are: {known}")
         v = variables[name]

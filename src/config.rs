@@ -198,10 +198,11 @@ pub const PARAMS: &[ParamSpec] = &[
     ParamSpec { name: "channel_width", value_reference: 41, kind: real_pos(0.02, 100.0), unit: "m", description: "Channel scene: distance H between the two walls; particles_per_diameter counts particles across it" },
     ParamSpec { name: "channel_length", value_reference: 42, kind: real(0.0, 0.0, 1000.0), unit: "m", description: "Channel scene: period along the flow (rounded to whole particle spacings); 0 = channel_width" },
     ParamSpec { name: "body_force", value_reference: 43, kind: real(80.0, 0.0, 1.0e6), unit: "m/s2", description: "Channel scene: body force per unit mass along the channel, switched on at t = 0 (gravity is off in the channel)" },
+    ParamSpec { name: "plate_velocity", value_reference: 60, kind: real(0.0, -1000.0, 1000.0), unit: "m/s", description: "Input: velocity of the plate along its normal, positive away from the fluid; the plate moves rigidly and the walls follow. A co-simulation master may change it at every communication point; this is its start value" },
     ParamSpec { name: "viscous_operator", value_reference: 44, kind: Kind::Enumeration { type_name: "ViscousOperator", items: VISCOUS_OPERATORS, default: "auto" }, unit: "", description: "Weakly compressible schemes: the solvent viscosity inside the stress (Fang's nested operator) or through Morris' Laplacian, which keeps shear layers at walls free of particle-scale zigzag" },
     ParamSpec { name: "jet_width", value_reference: 45, kind: real_pos(0.006, 10.0), unit: "m", description: "Jet scene: width D of the planar jet at the nozzle exit (King & Lind 2021: 6 mm); particles_per_diameter counts particles across it" },
     ParamSpec { name: "nozzle_height", value_reference: 46, kind: real_pos(0.072, 100.0), unit: "m", description: "Jet scene: height of the nozzle exit above the impact point, measured vertically (King & Lind 2021: 12 D)" },
-    ParamSpec { name: "jet_velocity", value_reference: 47, kind: real(0.2, 0.0, 100.0), unit: "m/s", description: "Jet scene: speed of the fluid leaving the nozzle, vertically down (King & Lind 2021: 0.2 m/s)" },
+    ParamSpec { name: "jet_velocity", value_reference: 47, kind: real(0.2, 0.0, 100.0), unit: "m/s", description: "Input: jet scene: speed of the fluid leaving the nozzle, vertically down (King & Lind 2021: 0.2 m/s). A co-simulation master (a pump or valve model) may change it at every communication point; this is its start value, which also sets the automatic sound speed" },
     ParamSpec { name: "container_width", value_reference: 48, kind: real(0.0, 0.0, 100.0), unit: "m", description: "Jet scene: distance between the container's side walls, centred on the impact point and perpendicular to the plate; 0 = no side walls" },
 ];
 
@@ -262,6 +263,21 @@ pub fn param_spec(name: &str) -> Option<&'static ParamSpec> {
 /// The parameter with a given FMU value reference.
 pub fn param_by_vr(vr: u32) -> Option<&'static ParamSpec> {
     PARAMS.iter().find(|p| p.value_reference == vr)
+}
+
+/// The rows of [`PARAMS`] that are FMU *inputs* (causality "input", variability "continuous")
+/// rather than fixed parameters: a co-simulation master may set them again after
+/// initialization, at every communication point (FMI 2.0 section 2.2.7, and section 4.2.4 for
+/// Co-Simulation). Their table row gives the start value, the range and the scene-file key, so
+/// a scene file sets an input's start value by its name like any parameter. In the running
+/// simulation they live in [`crate::state::Inputs`].
+pub const INPUT_NAMES: &[&str] = &["plate_velocity", "jet_velocity"];
+
+impl ParamSpec {
+    /// Whether this row is an input (see [`INPUT_NAMES`]).
+    pub fn is_input(&self) -> bool {
+        INPUT_NAMES.contains(&self.name)
+    }
 }
 
 /// Value reference of an enumeration's String twin: the enumeration's own plus this offset, so
@@ -397,6 +413,8 @@ pub struct SceneConfig {
     pub nozzle_height: f64,
     pub jet_velocity: f64,
     pub container_width: f64,
+    /// Start value of the input `plate_velocity` (see [`INPUT_NAMES`]).
+    pub plate_velocity: f64,
 }
 
 /// Automatic sound speed over the largest expected flow speed: 10 for about 1 % density
@@ -450,6 +468,7 @@ impl Default for SceneConfig {
             nozzle_height: 0.0,
             jet_velocity: 0.0,
             container_width: 0.0,
+            plate_velocity: 0.0,
         };
         for p in PARAMS {
             let v = match p.kind {
@@ -650,8 +669,17 @@ impl SceneConfig {
             "nozzle_height" => &mut self.nozzle_height,
             "jet_velocity" => &mut self.jet_velocity,
             "container_width" => &mut self.container_width,
+            "plate_velocity" => &mut self.plate_velocity,
             _ => return None,
         })
+    }
+
+    /// The start values of the inputs (see [`INPUT_NAMES`]).
+    pub fn inputs(&self) -> crate::state::Inputs {
+        crate::state::Inputs {
+            plate_velocity: self.plate_velocity,
+            jet_velocity: self.jet_velocity,
+        }
     }
 
     /// Particle spacing dx = D / particles_per_diameter (Fang 2006 section 4: a Cartesian lattice).

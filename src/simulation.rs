@@ -94,6 +94,29 @@ fn params(scene: &dyn Scene, eff: &SceneConfig) -> Params {
     p
 }
 
+/// Inputs a scene can take: finite, and a plate velocity only where there is a plate to move.
+fn check_inputs(scene: &dyn Scene, inputs: Inputs) -> Result<(), ConfigError> {
+    if !inputs.plate_velocity.is_finite() {
+        return Err(ConfigError::Inconsistent(format!(
+            "plate_velocity = {} is not a finite number",
+            inputs.plate_velocity
+        )));
+    }
+    if !(inputs.jet_velocity.is_finite() && inputs.jet_velocity >= 0.0) {
+        return Err(ConfigError::Inconsistent(format!(
+            "jet_velocity = {} is not a finite speed >= 0 m/s",
+            inputs.jet_velocity
+        )));
+    }
+    if inputs.plate_velocity != 0.0 && !scene.has_moving_plate() {
+        return Err(ConfigError::Inconsistent(format!(
+            "plate_velocity = {} m/s: this scene has no free-standing plate to move (only the drop has)",
+            inputs.plate_velocity
+        )));
+    }
+    Ok(())
+}
+
 fn thread_pool(cfg: &SceneConfig) -> Result<Arc<rayon::ThreadPool>, SimError> {
     rayon::ThreadPoolBuilder::new()
         .num_threads(cfg.threads as usize)
@@ -109,6 +132,7 @@ impl Simulation {
         cfg.validate()?;
         let scene = crate::scene::for_config(cfg)?;
         scene.validate(&scene.effective_config(cfg))?;
+        check_inputs(scene, cfg.inputs())?;
         Ok(())
     }
 
@@ -130,6 +154,7 @@ impl Simulation {
         let (fluid, walls) = scene.build(&eff, rest);
         let mut state = State::new(fluid, walls);
         scene.init_state(&eff, &mut state);
+        state.apply_inputs(cfg.inputs());
         let (scheme, elastic) = crate::scheme::build(&eff, params(scene, &eff), &state.walls)?;
         Ok(Self {
             cfg,
@@ -192,19 +217,9 @@ impl Simulation {
     /// Set the inputs from the communication time on. A change switches to exact landing on
     /// communication points (see the module documentation).
     pub fn set_inputs(&mut self, inputs: Inputs) -> Result<(), SimError> {
-        if !inputs.plate_velocity.is_finite() {
-            return Err(SimError::Request(format!(
-                "plate_velocity = {} is not a finite number",
-                inputs.plate_velocity
-            )));
-        }
+        check_inputs(self.scene, inputs).map_err(|e| SimError::Request(e.to_string()))?;
         if inputs == self.state.inputs {
             return Ok(());
-        }
-        if inputs.plate_velocity != 0.0 && self.state.walls.is_empty() {
-            return Err(SimError::Request(
-                "plate_velocity: this scene has no plate to move".into(),
-            ));
         }
         if !self.exact && self.state.time > self.t_comm {
             // The last internal step went past t_comm with the old inputs: go back to the state
@@ -217,10 +232,7 @@ impl Simulation {
             self.advance_to(t)?;
         }
         self.exact = true;
-        self.state.inputs = inputs;
-        for wall in self.state.walls.iter_mut().take(1) {
-            wall.velocity = inputs.plate_velocity;
-        }
+        self.state.apply_inputs(inputs);
         Ok(())
     }
 

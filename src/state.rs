@@ -12,6 +12,8 @@ use serde::{Deserialize, Serialize};
 pub struct Inputs {
     /// Velocity of the plate along its normal, positive away from the fluid [m/s].
     pub plate_velocity: f64,
+    /// Jet scene: speed of the fluid leaving the nozzle, vertically down [m/s].
+    pub jet_velocity: f64,
 }
 
 /// Bookkeeping of an inlet through which particles enter during a run (the jet's nozzle): what
@@ -77,6 +79,14 @@ impl State {
             void_fraction: 0.0,
             wall_reflections: 0,
             inflow: None,
+        }
+    }
+
+    /// Put `inputs` in force: the plate (the first wall) takes the input velocity.
+    pub fn apply_inputs(&mut self, inputs: Inputs) {
+        self.inputs = inputs;
+        if let Some(plate) = self.walls.first_mut() {
+            plate.velocity = inputs.plate_velocity;
         }
     }
 

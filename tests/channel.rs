@@ -86,17 +86,78 @@ fn newtonian_channel_reaches_the_poiseuille_profile_under_both_schemes() {
 
 #[test]
 fn periodic_channel_is_bitwise_identical_on_one_and_two_threads() {
-    let run = |threads: i64| {
-        let mut c = channel("wcsph", "oldroyd_b", 12);
-        c.threads = threads;
+    for scheme in ["wcsph", "pdri"] {
+        let run = |threads: i64| {
+            let mut c = channel(scheme, "oldroyd_b", 12);
+            c.threads = threads;
+            let mut sim = Simulation::new(c).unwrap();
+            sim.advance_to(0.02).unwrap();
+            assert_eq!(sim.threads(), threads as usize);
+            // The flow has crossed the periodic boundary by now.
+            assert!(sim.outputs().centreline_velocity > 0.05);
+            sim.state().clone()
+        };
+        assert_eq!(run(1), run(2), "{scheme}");
+    }
+}
+
+#[test]
+fn fene_cr_channel_settles_on_the_oldroyd_b_flow() {
+    // In steady shear FENE-CR's shear stress is Oldroyd-B's (Chilcott & Rallison 1988; King &
+    // Lind 2021 section IV.A): the factor f(tr A) multiplies both the stress and the relaxation,
+    // so the same velocity profile carries different normal stresses. Wi = lambda U / H = 0.5
+    // (Re = 5, beta = 0.1): every Waters & King mode decays by exp(-11) by t = 0.2 s. At the
+    // wall shear rate 4 U/H Oldroyd-B's tr A = 2 + 2 (4 Wi)^2 = 10, close to L^2 = 12, so
+    // FENE-CR's f(tr A) is far from 1 there.
+    use viscosph::analytic::SteadyChannel;
+    let steady = |rheology: &str| {
+        let mut c = channel("wcsph", rheology, 20);
+        c.set("relaxation_time", r(0.01)).unwrap();
+        c.set("viscosity_ratio", r(0.1)).unwrap();
+        c.set("fene_L2", r(12.0)).unwrap();
+        // No artificial stress: Fang's term shifts the steady flow (measured at this Wi: centre
+        // line 1.028 U with epsilon = 0.1, 1.007 U without); the wall layers stay stable to
+        // t = 0.2 s = 10 H/U here.
+        c.set("artificial_stress_epsilon", r(0.0)).unwrap();
+        let exact = SteadyChannel::from_config(&c, 0.02, 80.0).unwrap();
         let mut sim = Simulation::new(c).unwrap();
-        sim.advance_to(0.02).unwrap();
-        assert_eq!(sim.threads(), threads as usize);
-        // The flow has crossed the periodic boundary by now.
-        assert!(sim.outputs().centreline_velocity > 0.05);
-        sim.state().clone()
+        sim.advance_to(0.2)
+            .unwrap_or_else(|e| panic!("{rheology}: {e}"));
+        let f = &sim.state().fluid;
+        // The largest trace of A in the wall rows.
+        let tr = f.conf.iter().map(|a| a.trace()).fold(0.0, f64::max);
+        (sim.outputs(), exact, tr)
     };
-    assert_eq!(run(1), run(2));
+    let (ob, ob_exact, ob_tr) = steady("oldroyd_b");
+    let (fc, fc_exact, fc_tr) = steady("fene_cr");
+    // The analytic profiles agree (same velocity), the conformations do not.
+    assert!((fc_exact.centreline_velocity() - ob_exact.centreline_velocity()).abs() < 1e-12);
+    let rel = (fc.centreline_velocity - ob.centreline_velocity) / ob.centreline_velocity;
+    assert!(
+        rel.abs() < 0.01,
+        "centre line FENE-CR {} vs Oldroyd-B {}",
+        fc.centreline_velocity,
+        ob.centreline_velocity
+    );
+    let rel_q = (fc.flow_rate - ob.flow_rate) / ob.flow_rate;
+    assert!(
+        rel_q.abs() < 0.01,
+        "flow rate FENE-CR {} vs Oldroyd-B {}",
+        fc.flow_rate,
+        ob.flow_rate
+    );
+    for (name, o) in [("oldroyd_b", &ob), ("fene_cr", &fc)] {
+        assert!(
+            (o.centreline_velocity - 1.0).abs() < 0.01,
+            "{name}: steady centre line {} vs U = 1",
+            o.centreline_velocity
+        );
+    }
+    // FENE-CR's finite extensibility shows in the normal stress (tr A < L^2), not in the flow.
+    assert!(
+        fc_tr < 12.0 && fc_tr < ob_tr - 0.5,
+        "tr A: FENE-CR {fc_tr}, Oldroyd-B {ob_tr}"
+    );
 }
 
 #[test]

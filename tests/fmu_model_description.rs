@@ -10,7 +10,7 @@
 
 use roxmltree::{Document, Node};
 use std::collections::HashSet;
-use viscosph::config::{name_variables, param_spec, Kind, SceneConfig, Value, PARAMS};
+use viscosph::config::{name_variables, param_spec, Kind, SceneConfig, Value, INPUT_NAMES, PARAMS};
 use viscosph::diagnostics::OUTPUTS;
 use viscosph::fmi2::model_description::{name_variable_description, parameter_description};
 use viscosph::fmi2::{guid, model_description_xml};
@@ -121,9 +121,23 @@ fn every_variable_matches_the_tables() {
             "{}",
             p.name
         );
-        assert_eq!(attr(v, "causality"), "parameter", "{}", p.name);
-        assert_eq!(attr(v, "variability"), "fixed", "{}", p.name);
-        assert_eq!(attr(v, "initial"), "exact", "{}", p.name);
+        let (index, _) = find(p.name);
+        if p.is_input() {
+            // FMI 2.0 section 2.2.7: an input is continuous, has a start value and no
+            // `initial`; listed after the outputs and the String twins.
+            assert_eq!(attr(v, "causality"), "input", "{}", p.name);
+            assert_eq!(attr(v, "variability"), "continuous", "{}", p.name);
+            assert!(v.attribute("initial").is_none(), "{}", p.name);
+            assert!(
+                index > PARAMS.len() + OUTPUTS.len(),
+                "{} after the outputs",
+                p.name
+            );
+        } else {
+            assert_eq!(attr(v, "causality"), "parameter", "{}", p.name);
+            assert_eq!(attr(v, "variability"), "fixed", "{}", p.name);
+            assert_eq!(attr(v, "initial"), "exact", "{}", p.name);
+        }
         assert_eq!(attr(v, "description"), parameter_description(p));
         match p.kind {
             Kind::Real {
@@ -193,7 +207,7 @@ fn every_variable_matches_the_tables() {
         twins += 1;
         let (index, v) = find(&name);
         assert!(
-            index > PARAMS.len() + OUTPUTS.len(),
+            index > PARAMS.len() - INPUT_NAMES.len() + OUTPUTS.len(),
             "{name} after the outputs"
         );
         assert_eq!(num(v, "valueReference"), vr as f64, "{name}");

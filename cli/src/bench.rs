@@ -9,6 +9,9 @@
 //! A case is a named [`SceneConfig`]; adding a scheme or a scene to a benchmark is adding a line to
 //! its case list.
 
+pub mod channel;
+pub mod jet;
+
 use crate::io::plot::{line_panels, status_grid, Panel, Series};
 use crate::run::{run, time_scale, RunOptions};
 use clap::{Args, Subcommand};
@@ -46,6 +49,9 @@ pub enum BenchKind {
     Rheologies,
     /// King & Lind's buckling jet: Wi, FENE and Giesekus sweeps and the Newtonian fall height.
     Jet,
+    /// Start-up Poiseuille flow against Waters & King: accuracy and order, King & Lind's Wi
+    /// sweeps, the non-linear models' steady profiles (see `bench/channel.rs`).
+    Channel(channel::ChannelArgs),
     /// Redraw the PNGs that the CSV files in --out hold the data of (accuracy.png), without
     /// running anything: for a change of the plot style.
     Replot,
@@ -70,6 +76,7 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
         BenchKind::Accuracy => Some("accuracy"),
         BenchKind::Rheologies => Some("rheologies"),
         BenchKind::Jet => Some("jet"),
+        BenchKind::Channel(_) => Some("channel"),
         BenchKind::Report { .. } | BenchKind::Replot => None,
     };
     let report = match args.what {
@@ -78,7 +85,8 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
         BenchKind::Stability => bench_stability(&args.out, args.quick)?,
         BenchKind::Accuracy => bench_accuracy(&args.out, args.quick)?,
         BenchKind::Rheologies => bench_rheologies(&args.out, args.quick)?,
-        BenchKind::Jet => crate::bench_jet::bench_jet(&args.out, args.quick)?,
+        BenchKind::Jet => jet::bench_jet(&args.out, args.quick)?,
+        BenchKind::Channel(ref c) => channel::main(c, &args.out, args.quick)?,
         BenchKind::Report { ref docs } => bench_report(&args.out, docs)?,
         BenchKind::Replot => bench_replot(&args.out)?,
     };
@@ -837,6 +845,16 @@ const REPORT_SECTIONS: &[(&str, &str, &str, &[&str])] = &[
         "viscosph bench rheologies",
         "rheologies.md",
         &["rheologies.png"],
+    ),
+    (
+        "Channel: start-up Poiseuille flow (King & Lind section IV.A)",
+        "viscosph bench channel",
+        "channel.md",
+        &[
+            "channel_accuracy.png",
+            "channel_wi.png",
+            "channel_nonlinear.png",
+        ],
     ),
     (
         "PySPH side by side",

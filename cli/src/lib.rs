@@ -3,7 +3,6 @@
 //! outside the solver library so that the FMU's cdylib links none of clap, plotters or indicatif.
 
 pub mod bench;
-pub mod bench_jet;
 pub mod io;
 pub mod jet;
 pub mod run;

@@ -222,7 +222,22 @@ fn snapshot(sim: &Simulation, ts: f64) -> plot::Snapshot {
         } else {
             format!("t = {}", time_text(sim.time()))
         },
-        plate_inclination: has_plate.then_some(eff.plate_inclination),
+        // Every wall surface (the drop's plate, both channel walls), from the state's plates.
+        plates: if has_plate {
+            sim.state()
+                .walls
+                .iter()
+                .map(|w| {
+                    let o = w.point(0.0, 0.0);
+                    plot::PlateLine {
+                        point: (o.x, o.y),
+                        tangent: (w.t.x, w.t.y),
+                    }
+                })
+                .collect()
+        } else {
+            Vec::new()
+        },
         nozzle: (eff.scene == viscosph::config::Scene::Jet).then(|| {
             let w = 0.5 * eff.jet_width;
             (-w, w, eff.nozzle_height)

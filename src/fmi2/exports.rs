@@ -690,7 +690,7 @@ unsupported!(
         _order: *const fmi2Integer,
         _value: *const fmi2Real,
     ),
-    "the FMU has no inputs and cannot interpolate them (canInterpolateInputs = false)"
+    "the inputs are held constant over a communication step; their derivatives are not used (canInterpolateInputs = false)"
 );
 
 unsupported!(

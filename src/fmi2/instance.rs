@@ -73,6 +73,9 @@ mod mask {
     /// Every parameter has variability "fixed": settable only before the end of initialization
     /// (FMI 2.0 section 2.2.7, table of `fmi2SetXXX` per causality and variability).
     pub const SET: u8 = b(Instantiated) | b(InitializationMode);
+    /// `fmi2SetReal`/`fmi2SetInteger`: as [`SET`], and inputs also after a completed step
+    /// (FMI 2.0 section 4.2.4); a fixed parameter is refused there value by value.
+    pub const SET_OR_INPUT: u8 = SET | b(StepComplete);
     pub const DO_STEP: u8 = b(StepComplete);
     pub const STATUS: u8 = b(StepComplete) | b(StepFailed) | b(Terminated);
     pub const NEVER: u8 = 0;
@@ -684,19 +687,35 @@ impl Instance {
     ) -> Status {
         self.call(
             func,
-            mask::SET,
+            mask::SET_OR_INPUT,
             || format!("vr={vrs:?}, value={values:?}"),
             |s| {
+                let stepping = s.phase == Phase::StepComplete;
                 let mut cfg = s.cfg.clone();
                 for (&vr, &x) in vrs.iter().zip(values) {
                     let var = lookup(vr).ok_or_else(|| unknown_vr(vr))?;
                     match &var {
+                        Var::Param(p) if stepping && !p.is_input() => {
+                            return error(format!(
+                                "'{}' (valueReference {vr}) is a parameter with variability \"fixed\": \
+                                 after fmi2ExitInitializationMode only inputs ({}) can be set; call fmi2Reset to change it",
+                                p.name,
+                                crate::config::INPUT_NAMES.join(", ")
+                            ))
+                        }
                         Var::Param(p) if accepts(&p.kind) => cfg
                             .set(p.name, value(x))
                             .map_err(|e| Fail::Error(e.to_string()))?,
                         Var::Output(i) => return Err(output_cannot_be_set(vr, *i)),
                         _ => return Err(wrong_type(vr, &var, "Set")),
                     }
+                }
+                if stepping {
+                    // Inputs act from this communication point on (the simulation lands on it
+                    // exactly, going back one internal step if it had passed it).
+                    let sim = s.sim.as_mut().expect("a simulation exists in StepComplete");
+                    sim.set_inputs(cfg.inputs())
+                        .map_err(|e| Fail::Error(e.to_string()))?;
                 }
                 s.cfg = cfg;
                 s.preview = None;
@@ -939,7 +958,7 @@ fn illegal_sequence(func: &str, allowed: u8, phase: Phase) -> String {
             "; call fmi2EnterInitializationMode and fmi2ExitInitializationMode first"
         }
         ("fmi2SetReal" | "fmi2SetInteger" | "fmi2SetBoolean" | "fmi2SetString", _) => {
-            "; every parameter has variability \"fixed\": set it before fmi2ExitInitializationMode, or call fmi2Reset"
+            "; every parameter has variability \"fixed\": set it before fmi2ExitInitializationMode, or call fmi2Reset (inputs can also be set after a completed step)"
         }
         ("fmi2GetReal" | "fmi2GetInteger", Phase::Instantiated) => {
             "; call fmi2EnterInitializationMode first"

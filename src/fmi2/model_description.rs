@@ -269,7 +269,7 @@ fn document_without_guid() -> String {
 
     let _ = writeln!(w, "  <ModelVariables>");
     let mut index = 0usize;
-    for p in PARAMS {
+    for p in PARAMS.iter().filter(|p| !p.is_input()) {
         index += 1;
         let _ = writeln!(w, "    <!-- index {index} -->");
         let _ = writeln!(
@@ -351,6 +351,32 @@ fn document_without_guid() -> String {
             w,
             r#"      <String start="{}"/>"#,
             escape(name_variable_start(p))
+        );
+        let _ = writeln!(w, "    </ScalarVariable>");
+    }
+    // The inputs, last for the same reason. FMI 2.0 section 2.2.7: an input has a start value
+    // and no `initial` attribute; continuous, because a master may change it at every
+    // communication point.
+    for p in PARAMS.iter().filter(|p| p.is_input()) {
+        index += 1;
+        let Kind::Real {
+            default, min, max, ..
+        } = p.kind
+        else {
+            panic!("input '{}' must be a Real row", p.name);
+        };
+        let _ = writeln!(w, "    <!-- index {index} -->");
+        let _ = writeln!(
+            w,
+            r#"    <ScalarVariable name="{}" valueReference="{}" description="{}" causality="input" variability="continuous">"#,
+            escape(p.name),
+            p.value_reference,
+            escape(&parameter_description(p))
+        );
+        let _ = writeln!(
+            w,
+            r#"      <Real unit="{}" start="{default}" min="{min}" max="{max}"/>"#,
+            escape(p.unit)
         );
         let _ = writeln!(w, "    </ScalarVariable>");
     }

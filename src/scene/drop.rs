@@ -45,6 +45,10 @@ pub fn build(cfg: &SceneConfig, rest: Option<Mat2>) -> (Fluid, Plate) {
 pub struct Drop;
 
 impl Scene for Drop {
+    fn has_moving_plate(&self) -> bool {
+        true
+    }
+
     fn validate(&self, cfg: &SceneConfig) -> Result<(), ConfigError> {
         let theta = cfg.plate_inclination.to_radians();
         let normal_gap = cfg.drop_height * theta.cos() - 0.5 * cfg.drop_diameter;

@@ -13,7 +13,9 @@
 //! kernel support of a particle just below it), on the lattice y_k = H + (k + 1/2) dx - phi,
 //! k = 0, 1, ..., where phi in [0, dx) is the length of fluid that has entered since the last row
 //! was emitted ([`crate::state::Inflow`]). Before every step ([`Scene::before_step`]) phi grows by
-//! U0 times the time since the last step; each time it passes dx a new row is emitted at the top
+//! U0 times the time since the last step (U0 in force over that step: `jet_velocity` is an input,
+//! [`crate::state::Inputs`], which a co-simulation master may change at any communication
+//! point); each time it passes dx a new row is emitted at the top
 //! (so the mass entering per unit time is rho U0 D exactly, to within one row of rho D dx); and
 //! every particle inside the nozzle gets the prescribed state back: velocity (0, -U0), density
 //! rho0 (zero pressure in the weakly compressible schemes, the free jet's pressure at the exit)
@@ -220,7 +222,7 @@ impl Scene for Jet {
 
     fn init_state(&self, cfg: &SceneConfig, st: &mut State) {
         st.inflow = Some(Inflow {
-            velocity: cfg.jet_velocity,
+            velocity: cfg.inputs().jet_velocity,
             conformation: st.fluid.conf.first().copied().unwrap_or_else(Mat2::zeros),
             ..Default::default()
         });
@@ -237,7 +239,7 @@ impl Scene for Jet {
         let dx = nz.dx;
         inl.phase += inl.velocity * (st.time - inl.updated);
         inl.updated = st.time;
-        inl.velocity = cfg.jet_velocity;
+        inl.velocity = st.inputs.jet_velocity;
         let v_in = inflow_velocity(cfg, inl.velocity, st.time);
         let rho0 = cfg.density;
         let fl = &mut st.fluid;

@@ -60,6 +60,13 @@ pub trait Scene: Send + Sync {
     /// Called before every step (inflow).
     fn before_step(&self, _cfg: &SceneConfig, _st: &mut State) {}
 
+    /// Whether the input `plate_velocity` may move this scene's first wall. Only a scene with
+    /// one free-standing plate can: a channel wall moved along its normal would squeeze the
+    /// channel, and the elliptical drop has no wall.
+    fn has_moving_plate(&self) -> bool {
+        false
+    }
+
     /// Velocity scale U \[m/s\], for dimensionless measures such as the pressure roughness
     /// (normalised by rho0 U^2).
     fn velocity_scale(&self, cfg: &SceneConfig) -> f64;

@@ -84,6 +84,23 @@ fn tick(v: f64) -> String {
     }
 }
 
+/// A tick label on a log axis: only at 1, 2 and 5 times a power of ten, because plotters puts a
+/// tick at every integer multiple and their labels run into each other near the end of a decade.
+fn log_tick(v: f64) -> String {
+    if v.is_nan() || v <= 0.0 {
+        return String::new();
+    }
+    let mantissa = v / 10f64.powf(v.log10().floor());
+    if [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .any(|m| (mantissa - m).abs() < 1e-6 * m)
+    {
+        tick(v)
+    } else {
+        String::new()
+    }
+}
+
 /// The corner of a panel with the fewest data points near it, for the legend.
 fn legend_corner(panel: &Panel, xs: (f64, f64), ys: (f64, f64)) -> SeriesLabelPosition {
     let frac = |v: f64, (lo, hi): (f64, f64), log: bool| {
@@ -158,14 +175,14 @@ fn draw_panel(
                 .y_labels(8)
                 .x_label_formatter(&|v| {
                     if panel.log.0 {
-                        tick(*v)
+                        log_tick(*v)
                     } else {
                         tick_in(*v, xs.1 - xs.0)
                     }
                 })
                 .y_label_formatter(&|v| {
                     if panel.log.1 {
-                        tick(*v)
+                        log_tick(*v)
                     } else {
                         tick_in(*v, ys.1 - ys.0)
                     }
@@ -226,11 +243,18 @@ pub struct Snapshot {
     pub walls: Vec<(f64, f64)>,
     /// Particle spacing \[m\]: sets the size of the dots.
     pub spacing: f64,
-    /// The plate surface: a line through the origin inclined by this angle \[deg\], running
-    /// downhill towards +x; `None` for scenes without a plate.
-    pub plate_inclination: Option<f64>,
+    /// The wall surfaces, each a line through a point along a unit tangent: the drop's plate,
+    /// both walls of the channel (y = 0 and y = H), none for the elliptical drop.
+    pub plates: Vec<PlateLine>,
     /// A nozzle to draw: its exit from x = .0 to .1 at height .2, walls up from there \[m\].
     pub nozzle: Option<(f64, f64, f64)>,
+}
+
+/// A straight wall surface: a point on it and its unit tangent.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlateLine {
+    pub point: (f64, f64),
+    pub tangent: (f64, f64),
 }
 
 /// Perceptually ordered colour map (anchors of matplotlib's viridis), `t` in \[0, 1\].
@@ -291,22 +315,25 @@ fn length_unit(extent: f64) -> (f64, &'static str) {
     }
 }
 
-/// The part of the line p(s) = s (cos a, -sin a) inside the window, if any (Liang-Barsky).
-fn clip_plate(angle_deg: f64, x: (f64, f64), y: (f64, f64)) -> Option<[(f64, f64); 2]> {
-    let d = (angle_deg.to_radians().cos(), -angle_deg.to_radians().sin());
+/// The part of the line p(s) = point + s tangent inside the window, if any (Liang-Barsky).
+fn clip_plate(line: &PlateLine, x: (f64, f64), y: (f64, f64)) -> Option<[(f64, f64); 2]> {
+    let (p, d) = (line.point, line.tangent);
     let (mut s0, mut s1) = (-1e30, 1e30);
-    for (dir, lo, hi) in [(d.0, x.0, x.1), (d.1, y.0, y.1)] {
+    for (dir, o, lo, hi) in [(d.0, p.0, x.0, x.1), (d.1, p.1, y.0, y.1)] {
         if dir.abs() < 1e-15 {
-            if 0.0 < lo || 0.0 > hi {
+            if o < lo || o > hi {
                 return None;
             }
         } else {
-            let (a, b) = (lo / dir, hi / dir);
+            let (a, b) = ((lo - o) / dir, (hi - o) / dir);
             s0 = f64::max(s0, a.min(b));
             s1 = f64::min(s1, a.max(b));
         }
     }
-    (s1 > s0).then_some([(s0 * d.0, s0 * d.1), (s1 * d.0, s1 * d.1)])
+    (s1 > s0).then_some([
+        (p.0 + s0 * d.0, p.1 + s0 * d.1),
+        (p.0 + s1 * d.0, p.1 + s1 * d.1),
+    ])
 }
 
 /// The window of one snapshot: its fluid with a margin, stretched to include the nearest point
@@ -322,12 +349,12 @@ fn window(shot: &Snapshot, aspect: f64, min_size: f64) -> ((f64, f64), (f64, f64
     if x0 > x1 {
         return ((-1.0, 1.0), (-1.0, 1.0));
     }
-    if let Some(a) = shot.plate_inclination {
+    let (cx, cy) = (0.5 * (x0 + x1), 0.5 * (y0 + y1));
+    for line in &shot.plates {
         // Nearest point of the plate to the fluid's centre.
-        let (cx, cy) = (0.5 * (x0 + x1), 0.5 * (y0 + y1));
-        let d = (a.to_radians().cos(), -a.to_radians().sin());
-        let s = cx * d.0 + cy * d.1;
-        let (px, py) = (s * d.0, s * d.1);
+        let (o, d) = (line.point, line.tangent);
+        let s = (cx - o.0) * d.0 + (cy - o.1) * d.1;
+        let (px, py) = (o.0 + s * d.0, o.1 + s * d.1);
         x0 = x0.min(px);
         x1 = x1.max(px);
         y0 = y0.min(py);
@@ -420,8 +447,8 @@ pub fn particle_snapshots(
                 .filter(inside)
                 .map(|p| dot(*p, 1, RGBColor(170, 170, 170))),
         )?;
-        if let Some(a) = shot.plate_inclination {
-            if let Some([p, q]) = clip_plate(a, (x0, x1), (y0, y1)) {
+        for line in &shot.plates {
+            if let Some([p, q]) = clip_plate(line, (x0, x1), (y0, y1)) {
                 chart.draw_series(std::iter::once(PathElement::new(
                     vec![(p.0 * scale, p.1 * scale), (q.0 * scale, q.1 * scale)],
                     RGBColor(40, 40, 40).stroke_width(3),
@@ -567,4 +594,72 @@ pub fn status_grid(
     }
     root.present()?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn log_ticks_are_labelled_at_one_two_five_only() {
+        let labels: Vec<String> = [7.0, 10.0, 20.0, 30.0, 50.0, 70.0, 90.0, 100.0, 0.002]
+            .iter()
+            .map(|v| log_tick(*v))
+            .collect();
+        assert_eq!(labels, ["", "10", "20", "", "50", "", "", "100", "2.0e-3"]);
+        assert_eq!(log_tick(0.0), "");
+    }
+
+    /// Draws a cost-against-error panel like the benchmark's to `VISCOSPH_PLOT_DIR` (for a
+    /// person to look at) or a temporary directory, and checks it is a PNG of the asked size.
+    #[test]
+    fn a_log_log_panel_draws() {
+        let dir = std::env::var_os("VISCOSPH_PLOT_DIR")
+            .map(std::path::PathBuf::from)
+            .unwrap_or_else(std::env::temp_dir);
+        let path = dir.join("viscosph_log_panel.png");
+        let panel = Panel {
+            title: "cost against difference".into(),
+            x_label: "wall time [s]".into(),
+            y_label: "error [-]".into(),
+            series: vec![Series {
+                label: "a".into(),
+                points: vec![(6.0, 0.25), (70.0, 0.07), (104.0, 0.04)],
+            }],
+            log: (true, true),
+        };
+        line_panels(&path, &[panel], 1, (640, 480)).unwrap();
+        let bytes = std::fs::read(&path).unwrap();
+        assert_eq!(&bytes[1..4], b"PNG");
+    }
+
+    #[test]
+    fn plates_off_the_origin_are_clipped_to_the_window() {
+        // The channel's upper wall y = 1 (tangent -x) across the window [-0.5, 1.5] x [-0.2, 1.2].
+        let top = PlateLine {
+            point: (0.0, 1.0),
+            tangent: (-1.0, 0.0),
+        };
+        let [p, q] = clip_plate(&top, (-0.5, 1.5), (-0.2, 1.2)).unwrap();
+        let (mut xs, ys) = ([p.0, q.0], [p.1, q.1]);
+        xs.sort_by(f64::total_cmp);
+        assert_eq!(xs, [-0.5, 1.5]);
+        assert_eq!(ys, [1.0, 1.0]);
+        // Above the window: not drawn.
+        assert!(clip_plate(&top, (-0.5, 1.5), (-0.2, 0.9)).is_none());
+        // Fang's plate inclined by 30 degrees through the origin, downhill towards +x.
+        let a = 30f64.to_radians();
+        let plate = PlateLine {
+            point: (0.0, 0.0),
+            tangent: (a.cos(), -a.sin()),
+        };
+        let [p, q] = clip_plate(&plate, (-1.0, 1.0), (-1.0, 1.0)).unwrap();
+        for e in [p, q] {
+            assert!((e.1 + e.0 * a.tan()).abs() < 1e-12, "{e:?} off the plate");
+            assert!(
+                (e.0.abs() - 1.0).abs() < 1e-12,
+                "{e:?} not at the window edge"
+            );
+        }
+    }
 }

@@ -254,6 +254,20 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
     pub fn rates(&mut self, fl: &Fluid, plates: &[Plate]) -> StageReport {
         let nf = fl.len();
         self.all_x[..nf].copy_from_slice(&fl.x);
+        for (((wall, plate), range), built) in self
+            .walls
+            .iter()
+            .zip(plates)
+            .zip(&self.wall_ranges)
+            .zip(&self.built_walls)
+        {
+            if plate.displacement != *built {
+                // A moving plate: its virtual particles follow it at every evaluation, not only
+                // when the lists are rebuilt (the lists, built with a skin, stay valid until it
+                // has moved half the skin).
+                self.all_x[range.clone()].copy_from_slice(&wall.positions(plate));
+            }
+        }
         self.all_v[..nf].copy_from_slice(&fl.v);
         self.all_rho[..nf].copy_from_slice(&fl.rho);
         // Virtual particles keep rho0, so only fluid volumes change.

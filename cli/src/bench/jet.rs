@@ -7,7 +7,7 @@
 //! plate and its buckling onset, frequency and amplitude
 //! ([`viscosph::scene::jet::buckling`]).
 
-use crate::bench::case;
+use super::case;
 use crate::run::{run, RunOptions};
 use std::fmt::Write as _;
 use std::path::Path;
