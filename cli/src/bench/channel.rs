@@ -827,7 +827,11 @@ fn nonlinear(out: &Path, quick: bool, full: bool) -> BenchResult<String> {
             let start = Instant::now();
             let res = sim.advance_to(t_end);
             let wall = start.elapsed().as_secs_f64();
-            let fail = res.err().map(|e| failure(&e).1);
+            // A breakdown leaves the last good state: its errors are listed with the time.
+            let fail = res.err().map(|e| match failure(&e) {
+                (Some(t), cause) => format!("at t = {t:.2}: {cause}"),
+                (None, cause) => cause,
+            });
             let (eu, exy, exx) = steady_errors(&sim, &exact);
             let uc = centreline_velocity(&sim.state().fluid, 1.0, 1.0 / across as f64);
             eprintln!(
