@@ -21,8 +21,9 @@
 //!   steady analytic solutions of [`viscosph::analytic::steady_shear`]: relative L2 errors of u,
 //!   tau_p,xy and tau_p,xx over the particles.
 //!
-//! The default run is sized for a shared machine (about ten minutes on two busy cores): the
-//! accuracy runs end at t = 0.6 H/U (through the first overshoot, where the error is largest),
+//! The default run is cut short against King & Lind's end times (measured on two cores shared
+//! with other builds, load average 12-15: 9, 23 and 12 minutes of wall time for the three parts):
+//! the accuracy runs end at t = 0.6 H/U (through the first overshoot, where the error is largest),
 //! the sweeps at t = 3 (Fig. 5: past the second overshoot at Wi = 1) and t = 0.2 H/U (Fig. 6:
 //! past the first overshoot). `--full` runs King & Lind's end times (t = 5 for the accuracy,
 //! t = 20 for the sweeps) and 120 across; its cost is dominated by the explicit viscous
