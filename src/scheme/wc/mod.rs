@@ -94,8 +94,9 @@ pub struct WcCore<K: Kernel, R: Rheology> {
     all_mu: Vec<f64>,
     /// m / rho of every particle.
     all_vol: Vec<f64>,
-    /// sigma / rho^2 of every particle (Fang 2006 eq. 27).
-    all_sr2: Vec<Mat2>,
+    /// What the gather passes read of a neighbour, packed per particle (fluid first, then
+    /// virtual): one 64-byte line for pass 1, a second one for pass 2 (see [`passes::Rec`]).
+    rec: Vec<passes::Rec>,
     pairs: PairCache,
     /// Polymer stress of fluid particles (empty for inelastic models); from pass 1 on, with EVSS,
     /// the elastic stress as it enters sigma (Phi and its trace term), which is what the wall's
@@ -133,7 +134,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
             all_hess: Vec::new(),
             all_mu: Vec::new(),
             all_vol: Vec::new(),
-            all_sr2: Vec::new(),
+            rec: Vec::new(),
             pairs: PairCache::default(),
             tau_p: Vec::new(),
             kappa: Vec::new(),
@@ -265,6 +266,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
         for ((wall, plate), range) in self.walls.iter().zip(plates).zip(&self.wall_ranges) {
             wall.fill_velocities(plate, fl, &mut self.all_v[range.clone()]);
         }
+        self.pack_kinematics();
         self.virtual_hessians(nf);
         if R::ELASTIC {
             let model = &self.model;
@@ -300,12 +302,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
                 .enumerate()
                 .for_each(|(k, a)| *a = art.of_particle(&vsig[k], rho0, &vhess[k]));
         }
-        self.all_sr2.resize(self.all_sigma.len(), Mat2::zeros());
-        self.all_sr2
-            .par_iter_mut()
-            .zip(self.all_sigma.par_iter().zip(self.all_rho.par_iter()))
-            .with_min_len(MIN_TASK_LIGHT)
-            .for_each(|(o, (sg, r))| *o = sg / (r * r));
+        self.pack_stresses();
         self.pass2(fl)
     }
 
