@@ -17,6 +17,7 @@ Prints the minimum and the median of each, and the ratio base / new of the minim
 """
 import argparse
 import re
+import resource
 import os
 import platform
 import shutil
@@ -50,11 +51,14 @@ def time_cli(exe, workdir, scene=None, t_end=None, threads=None):
     env = dict(os.environ)
     if threads is not None:
         env["RAYON_NUM_THREADS"] = str(threads)
+    u0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
     r = subprocess.run(cmd, check=True, capture_output=True, text=True, env=env)
     wall = time.perf_counter() - t0
+    u1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (u1.ru_utime - u0.ru_utime) + (u1.ru_stime - u0.ru_stime)
     m = re.search(r"\(([0-9.eE+-]+) particle-steps/s\)", r.stdout + r.stderr)
-    return wall, (float(m.group(1)) if m else None)
+    return wall, cpu, (float(m.group(1)) if m else None)
 
 
 def time_fmu(fmu):
@@ -92,17 +96,19 @@ def main():
         for th in a.threads.split(","):
             cases.append((f"{name}, {th} thread(s)", os.path.abspath(scene), float(t_end), int(th)))
     times = {}
+    cpus = {}
     rates = {}
     with tempfile.TemporaryDirectory() as work:
         for r in range(a.rounds):
             line = []
             for label, scene, t_end, th in cases:
                 for which, exe in (("base", a.base_cli), ("new", a.new_cli)):
-                    wall, rate = time_cli(exe, work, scene, t_end, th)
+                    wall, cpu, rate = time_cli(exe, work, scene, t_end, th)
                     times.setdefault((label, which), []).append(wall)
+                    cpus.setdefault((label, which), []).append(cpu)
                     if rate is not None:
                         rates.setdefault((label, which), []).append(rate)
-                    line.append(f"{label} {which} {wall:.2f} s")
+                    line.append(f"{label} {which} {wall:.2f} s ({cpu:.2f} s CPU)")
             if fmu:
                 for which, f in (("base", a.base_fmu), ("new", a.new_fmu)):
                     wall = time_fmu(f)
@@ -112,12 +118,15 @@ def main():
     labels = [c[0] for c in cases] + (["fmu default drop"] if fmu else [])
     print(f"\nCPU: {cpu_model()}, {os.cpu_count()} logical CPUs; {a.rounds} alternating rounds")
     print("| case | base min [s] | base median [s] | new min [s] | new median [s] | base/new (min) "
-          "| base max particle-steps/s | new max particle-steps/s | new/base |")
-    print("|---|---|---|---|---|---|---|---|---|")
+          "| base max particle-steps/s | new max particle-steps/s | new/base "
+          "| base min CPU [s] | new min CPU [s] | base/new (CPU) |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for label in labels:
         b, n = times[(label, "base")], times[(label, "new")]
         rb, rn = rates.get((label, "base")), rates.get((label, "new"))
         extra = (f"{max(rb):.3e} | {max(rn):.3e} | {max(rn) / max(rb):.2f}" if rb and rn else "- | - | -")
+        cb, cn = cpus.get((label, "base")), cpus.get((label, "new"))
+        extra += (f" | {min(cb):.2f} | {min(cn):.2f} | {min(cb) / min(cn):.2f}" if cb and cn else " | - | - | -")
         print(f"| {label} | {min(b):.2f} | {statistics.median(b):.2f} | {min(n):.2f} | "
               f"{statistics.median(n):.2f} | {min(b) / min(n):.2f} | {extra} |")
 

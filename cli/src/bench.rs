@@ -296,35 +296,53 @@ pub fn measure_throughput(
     Ok(r?)
 }
 
+/// Peak resident set size of this process so far [bytes] (Linux `VmHWM`; `None` elsewhere).
+pub fn peak_rss() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}
+
 fn bench_throughput(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::Error>> {
+    // Ascending sizes, so the process's peak RSS after a size is that size's peak. 10^6 runs the
+    // Newtonian drop only, for a few steps (cost per particle-step, not a trajectory).
     let sizes: &[f64] = if quick {
         &[300.0, 1000.0]
     } else {
-        &[1e3, 1e4, 1e5]
+        &[1e3, 1e4, 1e5, 1e6]
     };
     let mut md = String::from(
-        "| case | particles | threads | particle-steps/s | per core |\n|---|---|---|---|---|\n",
+        "| case | particles | threads | particle-steps/s | per core | cost per particle-step \
+         [ns CPU] | peak RSS / particle [bytes] |\n|---|---|---|---|---|---|---|\n",
     );
-    let mut csv = String::from("case,particles,threads,particle_steps_per_second\n");
+    let mut csv = String::from(
+        "case,particles,threads,particle_steps_per_second,peak_rss_bytes_per_particle\n",
+    );
     let mut by: Vec<(String, usize, usize, f64)> = Vec::new();
     for (name, base) in fang_cases() {
         for &n in sizes {
+            if n > 2e5 && name != "newtonian" {
+                continue;
+            }
             let mut cfg = base.clone();
             let ppd = ppd_for(n);
             cfg.set("particles_per_diameter", Value::Integer(ppd))?;
             // Start one spacing above the plate, moving down: walls are in play from the first step.
             let h = 0.5 * cfg.drop_diameter + 1.5 * cfg.dx();
             cfg.set("initial_drop_height", Value::Real(h))?;
-            let steps = ((2e6 / n) as u64).clamp(10, 400) / if quick { 4 } else { 1 };
+            let steps = ((2e6 / n) as u64).clamp(6, 400) / if quick { 4 } else { 1 };
             for threads in [1usize, 2] {
                 eprintln!("bench throughput: {name}, {n:.0} particles, {threads} thread(s) ...");
                 let (tp, np) = measure_throughput(&cfg, steps.max(4), threads)?;
+                let rss = peak_rss().map_or(f64::NAN, |b| b as f64 / np as f64);
                 by.push((name.to_string(), np, threads, tp));
-                writeln!(csv, "{name},{np},{threads},{tp:.4e}")?;
+                writeln!(csv, "{name},{np},{threads},{tp:.4e},{rss:.0}")?;
                 writeln!(
                     md,
-                    "| {name} | {np} | {threads} | {tp:.3e} | {:.3e} |",
-                    tp / threads as f64
+                    "| {name} | {np} | {threads} | {tp:.3e} | {:.3e} | {:.0} | {rss:.0} |",
+                    tp / threads as f64,
+                    1e9 * threads as f64 / tp
                 )?;
             }
         }
@@ -342,6 +360,8 @@ fn bench_throughput(out: &Path, quick: bool) -> Result<String, Box<dyn std::erro
             }
         }
     }
+    writeln!(md, "\n![throughput.png](bench/throughput.png)")?;
+    plot_throughput(out, &by)?;
     let (lib, chunks, fmu) = fmu_overhead(if quick { 0.04 } else { 0.16 })?;
     writeln!(
         md,
@@ -367,6 +387,39 @@ fn bench_throughput(out: &Path, quick: bool) -> Result<String, Box<dyn std::erro
     std::fs::write(out.join("throughput.csv"), &csv)?;
     std::fs::write(out.join("throughput.md"), &md)?;
     Ok(md)
+}
+
+/// Cost per particle-step (CPU nanoseconds: wall time times threads) against the particle count,
+/// one line per case and thread count: flat means the cost grows linearly with the particles.
+fn plot_throughput(
+    out: &Path,
+    by: &[(String, usize, usize, f64)],
+) -> Result<(), Box<dyn std::error::Error>> {
+    let mut series = Vec::new();
+    for (name, _) in fang_cases() {
+        for threads in [1usize, 2] {
+            let points: Vec<(f64, f64)> = by
+                .iter()
+                .filter(|(n, _, th, _)| n == name && *th == threads)
+                .map(|(_, np, th, tp)| (*np as f64, 1e9 * *th as f64 / tp))
+                .collect();
+            if !points.is_empty() {
+                series.push(Series {
+                    label: format!("{name}, {threads} thread(s)"),
+                    points,
+                });
+            }
+        }
+    }
+    let panel = Panel {
+        title: "cost per particle-step (WCSPH drop)".into(),
+        x_label: "particles".into(),
+        y_label: "CPU ns per particle-step".into(),
+        series,
+        log: (true, false),
+    };
+    line_panels(&out.join("throughput.png"), &[panel], 1, (900, 600))?;
+    Ok(())
 }
 
 /// Wall times of the default drop to `t_end`: one library call, the library in 1 ms chunks with
@@ -813,7 +866,7 @@ const REPORT_SECTIONS: &[(&str, &str, &str, &[&str])] = &[
         "Throughput",
         "viscosph bench throughput",
         "throughput.md",
-        &[],
+        &["throughput.png"],
     ),
     (
         "Stability maps",

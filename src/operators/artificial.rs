@@ -28,9 +28,9 @@ pub fn viscosity(
     let vx = vij.dot(xij);
     let phi = h * vx / (r2 + 0.01 * h * h); // eq. (33)
     let pi = (-alpha * c_mean * phi + beta * phi * phi) / rho_mean; // eq. (31)
-    // eq. (32): receding pairs feel nothing. Chosen by a mask, not a branch: half the pairs of
-    // a flow approach and half recede with no pattern, and a mispredicted branch per pair cost
-    // more than the arithmetic (issue 16's profile). The value is the same bits either way.
+                                                                    // eq. (32): receding pairs feel nothing. Chosen by a mask, not a branch: half the pairs of
+                                                                    // a flow approach and half recede with no pattern, and a mispredicted branch per pair cost
+                                                                    // more than the arithmetic (issue 16's profile). The value is the same bits either way.
     let keep = if vx < 0.0 { u64::MAX } else { 0 };
     f64::from_bits(pi.to_bits() & keep)
 }

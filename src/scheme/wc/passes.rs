@@ -55,6 +55,68 @@ fn delta<const PERIODIC: bool>(ax: f64, ay: f64, b: &Rec, l: f64) -> (f64, f64) 
     (dx, dy)
 }
 
+/// The loop-invariant numbers of pass 2's pair term.
+struct PairConst {
+    alpha: f64,
+    beta: f64,
+    c: f64,
+    h: f64,
+    eta2: f64,
+    l: f64,
+}
+
+/// The pass-2 pair term of particle i (record `ri`) with neighbour j (`rj`), kernel gradient
+/// `grad` and value `w`: exactly the operations of Fang eq. (27) with eqs. (30)-(38) (and Morris'
+/// term) as the operators write them, component by component.
+#[inline(always)]
+fn pair_term<const PERIODIC: bool, const MORRIS: bool, const ART: bool>(
+    ri: &Rec,
+    rj: &Rec,
+    grad: Vec2,
+    w: f64,
+    k: &PairConst,
+    art: &ArtificialStress,
+) -> (f64, f64) {
+    let mut t = [
+        ri.s[0] + rj.s[0],
+        ri.s[1] + rj.s[1],
+        ri.s[2] + rj.s[2],
+        ri.s[3] + rj.s[3],
+    ];
+    let (dx, dy) = delta::<PERIODIC>(ri.x, ri.y, rj, k.l);
+    let xij = Vec2::new(dx, dy);
+    let vij = Vec2::new(ri.vx - rj.vx, ri.vy - rj.vy);
+    let r2 = xij.norm_squared();
+    let pi = artificial::viscosity(
+        k.alpha,
+        k.beta,
+        k.h,
+        k.c,
+        0.5 * (ri.rho + rj.rho),
+        &vij,
+        &xij,
+        r2,
+    );
+    t[0] -= pi;
+    t[3] -= pi;
+    if ART {
+        // A zero R_i + R_j adds exact zeros: no branch needed.
+        let f = art.pair_factor(w, r2);
+        for (tc, (a, b)) in t.iter_mut().zip(ri.r.iter().zip(&rj.r)) {
+            *tc += (a + b) * f;
+        }
+    }
+    // t * grad, nalgebra's matrix-vector product, t column-major.
+    let mut cx = t[0] * grad.x + t[2] * grad.y;
+    let mut cy = t[1] * grad.x + t[3] * grad.y;
+    if MORRIS {
+        let m = stress::morris_pair(&vij, &xij, &grad, ri.mu + rj.mu, ri.rho, rj.rho, r2, k.eta2);
+        cx += m.x;
+        cy += m.y;
+    }
+    (cx, cy)
+}
+
 impl<K: Kernel, R: Rheology> WcCore<K, R> {
     /// Records of every particle (fluid and virtual): positions, velocities, densities and
     /// volumes, for pass 1. The walls' velocities must be in `all_v`.
@@ -220,68 +282,20 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
             let h = self.kernel.h();
             let art = &self.art;
             let eta2 = MORRIS_ETA2 * h * h;
-            let (alpha, beta, c) = (p.alpha, p.beta, p.eos.c);
+            let cst = PairConst {
+                alpha: p.alpha,
+                beta: p.beta,
+                c: p.eos.c,
+                h,
+                eta2,
+                l,
+            };
             (&mut self.acc[..], &mut self.wall_acc[..])
                 .into_par_iter()
                 .with_min_len(MIN_TASK)
                 .enumerate()
                 .for_each(|(i, (acc_i, wall_i))| {
                     let ri = &rec[i];
-                    let (xi, yi, vxi, vyi, rhoi, mui) = (ri.x, ri.y, ri.vx, ri.vy, ri.rho, ri.mu);
-                    let (si, rri) = (ri.s, ri.r);
-                    // The pair term of particle i with neighbour j: exactly the operations of
-                    // Fang eq. (27) with eqs. (30)-(38) (and Morris' term) as the operators
-                    // write them, component by component.
-                    let term = |j: u32, grad: Vec2, w: f64| -> (f64, f64) {
-                        let rj = &rec[j as usize];
-                        let mut t = [
-                            si[0] + rj.s[0],
-                            si[1] + rj.s[1],
-                            si[2] + rj.s[2],
-                            si[3] + rj.s[3],
-                        ];
-                        let (dx, dy) = delta::<PERIODIC>(xi, yi, rj, l);
-                        let xij = Vec2::new(dx, dy);
-                        let vij = Vec2::new(vxi - rj.vx, vyi - rj.vy);
-                        let r2 = xij.norm_squared();
-                        let pi = artificial::viscosity(
-                            alpha,
-                            beta,
-                            h,
-                            c,
-                            0.5 * (rhoi + rj.rho),
-                            &vij,
-                            &xij,
-                            r2,
-                        );
-                        t[0] -= pi;
-                        t[3] -= pi;
-                        if ART {
-                            // A zero R_i + R_j adds exact zeros: no branch needed.
-                            let f = art.pair_factor(w, r2);
-                            for (tc, (a, b)) in t.iter_mut().zip(rri.iter().zip(&rj.r)) {
-                                *tc += (a + b) * f;
-                            }
-                        }
-                        // (t * grad), nalgebra's matrix-vector product, column-major t.
-                        let mut cx = t[0] * grad.x + t[2] * grad.y;
-                        let mut cy = t[1] * grad.x + t[3] * grad.y;
-                        if MORRIS {
-                            let m = stress::morris_pair(
-                                &vij,
-                                &xij,
-                                &grad,
-                                mui + rj.mu,
-                                rhoi,
-                                rj.rho,
-                                r2,
-                                eta2,
-                            );
-                            cx += m.x;
-                            cy += m.y;
-                        }
-                        (cx, cy)
-                    };
                     let range = pairs.range(nlist, i);
                     let (jj, gg, ww) = (
                         &pairs.j[range.clone()],
@@ -292,13 +306,27 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
                     let split = jj.partition_point(|&j| (j as usize) < nf);
                     let mut a = Vec2::zeros();
                     for ((&j, &g), &w) in jj[..split].iter().zip(&gg[..split]).zip(&ww[..split]) {
-                        let (cx, cy) = term(j, g, w);
+                        let (cx, cy) = pair_term::<PERIODIC, MORRIS, ART>(
+                            ri,
+                            &rec[j as usize],
+                            g,
+                            w,
+                            &cst,
+                            art,
+                        );
                         a.x += cx;
                         a.y += cy;
                     }
                     let mut aw = Vec2::zeros();
                     for ((&j, &g), &w) in jj[split..].iter().zip(&gg[split..]).zip(&ww[split..]) {
-                        let (cx, cy) = term(j, g, w);
+                        let (cx, cy) = pair_term::<PERIODIC, MORRIS, ART>(
+                            ri,
+                            &rec[j as usize],
+                            g,
+                            w,
+                            &cst,
+                            art,
+                        );
                         aw.x += cx;
                         aw.y += cy;
                     }
