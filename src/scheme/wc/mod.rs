@@ -15,6 +15,9 @@
 //!    artificial stress ([`crate::operators::artificial`]), plus Morris' viscous Laplacian when
 //!    EVSS is on; the part exerted by virtual particles is the wall force.
 //!
+//! The passes read a neighbour's data from one packed record per particle, filled before each
+//! pass (passes.rs says how the hot loops are laid out, and why).
+//!
 //! Every pass is a gather over ascending neighbour indices, so results are bitwise independent of
 //! the thread count. Every pair vector goes through the domain ([`crate::neighbors::Domain`]), so
 //! the same code runs in periodic boxes.
