@@ -3,14 +3,21 @@ on the same machine at the same time, never an absolute figure carried between s
 
 Usage:
   python3 examples/compare_speed.py --base-cli A/viscosph --new-cli B/viscosph \
-      --base-fmu A.fmu --new-fmu B.fmu [--rounds 5]
+      [--base-fmu A.fmu --new-fmu B.fmu] [--case NAME=SCENE.toml:T_END ...] \
+      [--threads 1,2] [--rounds 5] [--no-default]
 
 Times (wall clock, whole process for the CLI, `simulate_fmu` for the FMU):
-  * `viscosph run` of the default scene (Fang's Oldroyd-B drop to t* = 8);
-  * the default drop through the FMU with fmpy, to 0.16 s at a 1 ms communication step.
+  * `viscosph run` of the default scene (Fang's Oldroyd-B drop to t* = 8), unless --no-default;
+  * the default drop through the FMU with fmpy, to 0.16 s at a 1 ms communication step (when
+    both FMUs are given);
+  * each --case: `viscosph run SCENE --t-end T_END` on each thread count of --threads (set by
+    RAYON_NUM_THREADS; a scene's own `threads` key wins, so leave it out), with the
+    particle-steps/s the CLI reports (its stepping loop only) next to the whole process's time.
 Prints the minimum and the median of each, and the ratio base / new of the minima.
 """
 import argparse
+import re
+import resource
 import os
 import platform
 import shutil
@@ -32,12 +39,26 @@ def cpu_model():
     return platform.processor() or "unknown"
 
 
-def time_cli(exe, workdir):
+def time_cli(exe, workdir, scene=None, t_end=None, threads=None):
+    """Wall time of a whole `viscosph run`, and the particle-steps/s it reports (or None)."""
     out = os.path.join(workdir, "run")
     shutil.rmtree(out, ignore_errors=True)
+    cmd = [exe, "run", "--out", out]
+    if t_end is not None:
+        cmd += ["--t-end", str(t_end)]
+    if scene is not None:
+        cmd.append(scene)
+    env = dict(os.environ)
+    if threads is not None:
+        env["RAYON_NUM_THREADS"] = str(threads)
+    u0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
-    subprocess.run([exe, "run", "--out", out], check=True, capture_output=True)
-    return time.perf_counter() - t0
+    r = subprocess.run(cmd, check=True, capture_output=True, text=True, env=env)
+    wall = time.perf_counter() - t0
+    u1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (u1.ru_utime - u0.ru_utime) + (u1.ru_stime - u0.ru_stime)
+    m = re.search(r"\(([0-9.eE+-]+) particle-steps/s\)", r.stdout + r.stderr)
+    return wall, cpu, (float(m.group(1)) if m else None)
 
 
 def time_fmu(fmu):
@@ -57,25 +78,57 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--base-cli", required=True)
     ap.add_argument("--new-cli", required=True)
-    ap.add_argument("--base-fmu", required=True)
-    ap.add_argument("--new-fmu", required=True)
+    ap.add_argument("--base-fmu")
+    ap.add_argument("--new-fmu")
+    ap.add_argument("--case", action="append", default=[],
+                    help="NAME=SCENE.toml:T_END, a scene run to T_END by both builds")
+    ap.add_argument("--threads", default="1", help="comma-separated thread counts of the --case runs")
+    ap.add_argument("--no-default", action="store_true", help="skip the default scene's whole run")
     ap.add_argument("--rounds", type=int, default=5)
     a = ap.parse_args()
-    times = {k: [] for k in ["cli base", "cli new", "fmu base", "fmu new"]}
+    fmu = a.base_fmu is not None and a.new_fmu is not None
+    cases = []  # (label, scene, t_end, threads)
+    if not a.no_default:
+        cases.append(("cli default scene", None, None, None))
+    for c in a.case:
+        name, rest = c.split("=", 1)
+        scene, t_end = rest.rsplit(":", 1)
+        for th in a.threads.split(","):
+            cases.append((f"{name}, {th} thread(s)", os.path.abspath(scene), float(t_end), int(th)))
+    times = {}
+    cpus = {}
+    rates = {}
     with tempfile.TemporaryDirectory() as work:
         for r in range(a.rounds):
-            times["cli base"].append(time_cli(a.base_cli, work))
-            times["cli new"].append(time_cli(a.new_cli, work))
-            times["fmu base"].append(time_fmu(a.base_fmu))
-            times["fmu new"].append(time_fmu(a.new_fmu))
-            print(f"round {r + 1}: " + ", ".join(f"{k} {v[-1]:.2f} s" for k, v in times.items()), flush=True)
+            line = []
+            for label, scene, t_end, th in cases:
+                for which, exe in (("base", a.base_cli), ("new", a.new_cli)):
+                    wall, cpu, rate = time_cli(exe, work, scene, t_end, th)
+                    times.setdefault((label, which), []).append(wall)
+                    cpus.setdefault((label, which), []).append(cpu)
+                    if rate is not None:
+                        rates.setdefault((label, which), []).append(rate)
+                    line.append(f"{label} {which} {wall:.2f} s ({cpu:.2f} s CPU)")
+            if fmu:
+                for which, f in (("base", a.base_fmu), ("new", a.new_fmu)):
+                    wall = time_fmu(f)
+                    times.setdefault(("fmu default drop", which), []).append(wall)
+                    line.append(f"fmu {which} {wall:.2f} s")
+            print(f"round {r + 1}: " + ", ".join(line), flush=True)
+    labels = [c[0] for c in cases] + (["fmu default drop"] if fmu else [])
     print(f"\nCPU: {cpu_model()}, {os.cpu_count()} logical CPUs; {a.rounds} alternating rounds")
-    print("| case | base min [s] | base median [s] | new min [s] | new median [s] | base/new (min) |")
-    print("|---|---|---|---|---|---|")
-    for case in ["cli", "fmu"]:
-        b, n = times[f"{case} base"], times[f"{case} new"]
-        print(f"| {case} | {min(b):.2f} | {statistics.median(b):.2f} | {min(n):.2f} | "
-              f"{statistics.median(n):.2f} | {min(b) / min(n):.2f} |")
+    print("| case | base min [s] | base median [s] | new min [s] | new median [s] | base/new (min) "
+          "| base max particle-steps/s | new max particle-steps/s | new/base "
+          "| base min CPU [s] | new min CPU [s] | base/new (CPU) |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for label in labels:
+        b, n = times[(label, "base")], times[(label, "new")]
+        rb, rn = rates.get((label, "base")), rates.get((label, "new"))
+        extra = (f"{max(rb):.3e} | {max(rn):.3e} | {max(rn) / max(rb):.2f}" if rb and rn else "- | - | -")
+        cb, cn = cpus.get((label, "base")), cpus.get((label, "new"))
+        extra += (f" | {min(cb):.2f} | {min(cn):.2f} | {min(cb) / min(cn):.2f}" if cb and cn else " | - | - | -")
+        print(f"| {label} | {min(b):.2f} | {statistics.median(b):.2f} | {min(n):.2f} | "
+              f"{statistics.median(n):.2f} | {min(b) / min(n):.2f} | {extra} |")
 
 
 if __name__ == "__main__":

@@ -282,78 +282,141 @@ pub fn ppd_for(n: f64) -> i64 {
     (4.0 * n / std::f64::consts::PI).sqrt().round() as i64
 }
 
+/// Peak resident set size of this process so far [bytes] (Linux `VmHWM`; `None` elsewhere).
+pub fn peak_rss() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}
+
+/// CPU time this process has used so far, all threads, user and system [s], from
+/// `/proc/self/stat` (Linux; `None` elsewhere). On a machine shared with other work the wall
+/// clock counts the time others hold the cores; CPU time does not.
+pub fn process_cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // Fields after the parenthesised command name; utime and stime are fields 14 and 15, in
+    // USER_HZ = 100 ticks per second (fixed by the /proc ABI).
+    let rest = &stat[stat.rfind(')')? + 2..];
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let ticks: u64 = f.get(11)?.parse::<u64>().ok()? + f.get(12)?.parse::<u64>().ok()?;
+    Some(ticks as f64 / 100.0)
+}
+
+/// One throughput measurement.
+#[derive(Debug, Clone, Copy)]
+pub struct Throughput {
+    pub particles: usize,
+    /// Particle-steps per wall-clock second.
+    pub per_second: f64,
+    /// CPU nanoseconds (all threads) per particle-step; NaN where CPU time is not available.
+    pub cpu_ns: f64,
+}
+
 /// Measure particle-steps per second of `cfg` over `steps` steps on `threads` threads, starting
 /// just before impact (the drop is set down one spacing above the plate so walls take part).
 pub fn measure_throughput(
     cfg: &SceneConfig,
     steps: u64,
     threads: usize,
-) -> Result<(f64, usize), Box<dyn std::error::Error>> {
+) -> Result<Throughput, Box<dyn std::error::Error>> {
     // The simulation runs in its own pool of `threads` workers.
     let mut cfg = cfg.clone();
     cfg.threads = threads as i64;
-    let r: Result<(f64, usize), viscosph::simulation::SimError> = (|| {
+    let r: Result<Throughput, viscosph::simulation::SimError> = (|| {
         let mut sim = Simulation::new(cfg)?;
         // One tiny step to learn the stable step, then time `steps` steps.
         sim.advance_to(1e-12)?;
         let dt = sim.state().last_dt;
         let s0 = sim.state().step;
+        let cpu0 = process_cpu_seconds();
         let start = std::time::Instant::now();
         sim.advance_to(sim.time() + dt * steps as f64 * 0.999)?;
         let secs = start.elapsed().as_secs_f64();
+        let cpu = match (cpu0, process_cpu_seconds()) {
+            (Some(a), Some(b)) => b - a,
+            _ => f64::NAN,
+        };
         let done = sim.state().step - s0;
         let n = sim.state().fluid.len();
-        Ok((n as f64 * done as f64 / secs, n))
+        let ps = n as f64 * done as f64;
+        Ok(Throughput {
+            particles: n,
+            per_second: ps / secs,
+            cpu_ns: 1e9 * cpu / ps,
+        })
     })();
     Ok(r?)
 }
 
 fn bench_throughput(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::Error>> {
+    // Sizes outer, ascending, so that the process's peak RSS after a run is that run's own peak
+    // (less the RSS before the first run: the binary and the allocator's base). 10^6 runs the
+    // Newtonian drop only, for a few steps (cost per particle-step, not a trajectory).
     let sizes: &[f64] = if quick {
         &[300.0, 1000.0]
     } else {
-        &[1e3, 1e4, 1e5]
+        &[1e3, 1e4, 1e5, 1e6]
     };
+    let rss0 = peak_rss();
     let mut md = String::from(
-        "| case | particles | threads | particle-steps/s | per core |\n|---|---|---|---|---|\n",
+        "| case | particles | threads | particle-steps/s (wall) | per core | CPU ns per \
+         particle-step | peak RSS per particle [bytes] |\n|---|---|---|---|---|---|---|\n",
     );
-    let mut csv = String::from("case,particles,threads,particle_steps_per_second\n");
-    let mut by: Vec<(String, usize, usize, f64)> = Vec::new();
-    for (name, base) in fang_cases() {
-        for &n in sizes {
+    let mut csv = String::from(
+        "case,particles,threads,particle_steps_per_second,cpu_ns_per_particle_step,peak_rss_bytes_per_particle\n",
+    );
+    let mut by: Vec<(String, usize, usize, f64, f64)> = Vec::new();
+    for &n in sizes {
+        for (name, base) in fang_cases() {
+            if n > 2e5 && name != "newtonian" {
+                continue;
+            }
             let mut cfg = base.clone();
             let ppd = ppd_for(n);
             cfg.set("particles_per_diameter", Value::Integer(ppd))?;
             // Start one spacing above the plate, moving down: walls are in play from the first step.
             let h = 0.5 * cfg.drop_diameter + 1.5 * cfg.dx();
             cfg.set("initial_drop_height", Value::Real(h))?;
-            let steps = ((2e6 / n) as u64).clamp(10, 400) / if quick { 4 } else { 1 };
+            let steps = ((2e6 / n) as u64).clamp(6, 400) / if quick { 4 } else { 1 };
             for threads in [1usize, 2] {
                 eprintln!("bench throughput: {name}, {n:.0} particles, {threads} thread(s) ...");
-                let (tp, np) = measure_throughput(&cfg, steps.max(4), threads)?;
-                by.push((name.to_string(), np, threads, tp));
-                writeln!(csv, "{name},{np},{threads},{tp:.4e}")?;
+                let t = measure_throughput(&cfg, steps.max(4), threads)?;
+                let np = t.particles;
+                let rss = match (rss0, peak_rss()) {
+                    (Some(a), Some(b)) => b.saturating_sub(a) as f64 / np as f64,
+                    _ => f64::NAN,
+                };
+                by.push((name.to_string(), np, threads, t.per_second, t.cpu_ns));
+                writeln!(
+                    csv,
+                    "{name},{np},{threads},{:.4e},{:.1},{rss:.0}",
+                    t.per_second, t.cpu_ns
+                )?;
                 writeln!(
                     md,
-                    "| {name} | {np} | {threads} | {tp:.3e} | {:.3e} |",
-                    tp / threads as f64
+                    "| {name} | {np} | {threads} | {:.3e} | {:.3e} | {:.0} | {rss:.0} |",
+                    t.per_second,
+                    t.per_second / threads as f64,
+                    t.cpu_ns
                 )?;
             }
         }
     }
     writeln!(
         md,
-        "\n| particles | threads | cost ratio Oldroyd-B / Newtonian |\n|---|---|---|"
+        "\n| particles | threads | cost ratio Oldroyd-B / Newtonian (CPU time) |\n|---|---|---|"
     )?;
-    for (name, np, th, tp) in &by {
+    for (name, np, th, _, cn) in &by {
         if name == "newtonian" {
-            if let Some((_, _, _, tpo)) = by.iter().find(|(n2, np2, th2, _)| {
+            if let Some((_, _, _, _, co)) = by.iter().find(|(n2, np2, th2, _, _)| {
                 n2 == "oldroyd_b" && *th2 == *th && (*np2 as f64 / *np as f64 - 1.0).abs() < 0.05
             }) {
-                writeln!(md, "| {np} | {th} | {:.2} |", tp / tpo)?;
+                writeln!(md, "| {np} | {th} | {:.2} |", co / cn)?;
             }
         }
     }
+    plot_throughput(out, &by)?;
     let (lib, chunks, fmu) = fmu_overhead(if quick { 0.04 } else { 0.16 })?;
     writeln!(
         md,
@@ -379,6 +442,39 @@ fn bench_throughput(out: &Path, quick: bool) -> Result<String, Box<dyn std::erro
     std::fs::write(out.join("throughput.csv"), &csv)?;
     std::fs::write(out.join("throughput.md"), &md)?;
     Ok(md)
+}
+
+/// Cost per particle-step (CPU nanoseconds, all threads) against the particle count,
+/// one line per case and thread count: flat means the cost grows linearly with the particles.
+fn plot_throughput(
+    out: &Path,
+    by: &[(String, usize, usize, f64, f64)],
+) -> Result<(), Box<dyn std::error::Error>> {
+    let mut series = Vec::new();
+    for (name, _) in fang_cases() {
+        for threads in [1usize, 2] {
+            let points: Vec<(f64, f64)> = by
+                .iter()
+                .filter(|(n, _, th, _, _)| n == name && *th == threads)
+                .map(|(_, np, _, _, cpu_ns)| (*np as f64, *cpu_ns))
+                .collect();
+            if !points.is_empty() {
+                series.push(Series {
+                    label: format!("{name}, {threads} thread(s)"),
+                    points,
+                });
+            }
+        }
+    }
+    let panel = Panel {
+        title: "cost per particle-step (WCSPH drop)".into(),
+        x_label: "particles".into(),
+        y_label: "CPU ns per particle-step".into(),
+        series,
+        log: (true, false),
+    };
+    line_panels(&out.join("throughput.png"), &[panel], 1, (900, 600))?;
+    Ok(())
 }
 
 /// Wall times of the default drop to `t_end`: one library call, the library in 1 ms chunks with
@@ -825,7 +921,7 @@ const REPORT_SECTIONS: &[(&str, &str, &str, &[&str])] = &[
         "Throughput",
         "viscosph bench throughput",
         "throughput.md",
-        &[],
+        &["throughput.png"],
     ),
     (
         "Stability maps",

@@ -66,6 +66,7 @@ fn drop_throughput_rheologies_and_report() {
         .collect();
     assert_eq!(speeds.len(), 8, "two cases, two sizes, two thread counts");
     assert!(speeds.iter().all(|s| *s > 0.0));
+    png(&out.join("throughput.png"));
 
     let md = bench(&["rheologies"], out);
     for r in viscosph::config::RHEOLOGIES {

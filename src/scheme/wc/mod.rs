@@ -15,6 +15,9 @@
 //!    artificial stress ([`crate::operators::artificial`]), plus Morris' viscous Laplacian when
 //!    EVSS is on; the part exerted by virtual particles is the wall force.
 //!
+//! The passes read a neighbour's data from one packed record per particle, filled before each
+//! pass (passes.rs says how the hot loops are laid out, and why).
+//!
 //! Every pass is a gather over ascending neighbour indices, so results are bitwise independent of
 //! the thread count. Every pair vector goes through the domain ([`crate::neighbors::Domain`]), so
 //! the same code runs in periodic boxes.
@@ -94,8 +97,9 @@ pub struct WcCore<K: Kernel, R: Rheology> {
     all_mu: Vec<f64>,
     /// m / rho of every particle.
     all_vol: Vec<f64>,
-    /// sigma / rho^2 of every particle (Fang 2006 eq. 27).
-    all_sr2: Vec<Mat2>,
+    /// What the gather passes read of a neighbour, packed per particle (fluid first, then
+    /// virtual): one 64-byte line for pass 1, a second one for pass 2 (see [`passes::Rec`]).
+    rec: Vec<passes::Rec>,
     pairs: PairCache,
     /// Polymer stress of fluid particles (empty for inelastic models); from pass 1 on, with EVSS,
     /// the elastic stress as it enters sigma (Phi and its trace term), which is what the wall's
@@ -133,7 +137,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
             all_hess: Vec::new(),
             all_mu: Vec::new(),
             all_vol: Vec::new(),
-            all_sr2: Vec::new(),
+            rec: Vec::new(),
             pairs: PairCache::default(),
             tau_p: Vec::new(),
             kappa: Vec::new(),
@@ -279,6 +283,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
         for ((wall, plate), range) in self.walls.iter().zip(plates).zip(&self.wall_ranges) {
             wall.fill_velocities(plate, fl, &mut self.all_v[range.clone()]);
         }
+        self.pack_kinematics();
         self.virtual_hessians(nf);
         if R::ELASTIC {
             let model = &self.model;
@@ -314,12 +319,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
                 .enumerate()
                 .for_each(|(k, a)| *a = art.of_particle(&vsig[k], rho0, &vhess[k]));
         }
-        self.all_sr2.resize(self.all_sigma.len(), Mat2::zeros());
-        self.all_sr2
-            .par_iter_mut()
-            .zip(self.all_sigma.par_iter().zip(self.all_rho.par_iter()))
-            .with_min_len(MIN_TASK_LIGHT)
-            .for_each(|(o, (sg, r))| *o = sg / (r * r));
+        self.pack_stresses();
         self.pass2(fl)
     }
 

@@ -1,11 +1,171 @@
 //! The two gather passes of a weakly compressible rate evaluation (see the parent module).
+//!
+//! **How the hot loops are laid out** (issue 16; the profile and the gain of each step are in
+//! docs/benchmarks.md). A neighbour's data is read from one packed record ([`Rec`]) rather than
+//! from six arrays of nalgebra structs: pass 1 touches its first 64-byte line, pass 2 both. The
+//! per-pair branches whose outcome is data-dependent (inside the support or in the skin; an
+//! approaching or receding pair in the artificial viscosity; a zero artificial stress; a fluid
+//! or a virtual neighbour) are gone: pass 1 compacts the candidates inside the support without a
+//! branch and then runs the kernel over the compacted slots; pass 2 takes the pairs with fluid
+//! neighbours and those with virtual ones as two runs (a list is ascending and virtual particles
+//! come after the fluid, so the split is one binary search); the artificial viscosity selects
+//! its value by a mask. Loop-invariant choices (periodic domain, Morris' Laplacian, artificial
+//! stress, Hessian sums) are const generic parameters, so each variant is its own straight loop.
+//! Every operation and every sum is the same as in the plain loops, in the same order: the
+//! results are bitwise those of the code before this layout.
 
 use super::*;
 
+/// The per-particle values a gather pass reads of a neighbour, in one record of two 64-byte
+/// lines. Line 1 (pass 1): position, velocity, density, volume m/rho, the viscosity of the
+/// Laplacian. Line 2 (pass 2): sigma/rho^2 (Fang 2006 eq. 27) and the artificial stress R, both
+/// column-major like nalgebra's `Mat2`.
+#[derive(Debug, Clone, Copy, Default)]
+#[repr(C, align(64))]
+pub(crate) struct Rec {
+    pub x: f64,
+    pub y: f64,
+    pub vx: f64,
+    pub vy: f64,
+    pub rho: f64,
+    pub vol: f64,
+    pub mu: f64,
+    _pad: f64,
+    pub s: [f64; 4],
+    pub r: [f64; 4],
+}
+
+#[inline(always)]
+fn m2(m: &Mat2) -> [f64; 4] {
+    [m[(0, 0)], m[(1, 0)], m[(0, 1)], m[(1, 1)]]
+}
+
+/// x_a - x_b at the nearest image, as [`crate::neighbors::Domain::delta`] computes it.
+#[inline(always)]
+fn delta<const PERIODIC: bool>(ax: f64, ay: f64, b: &Rec, l: f64) -> (f64, f64) {
+    let mut dx = ax - b.x;
+    let dy = ay - b.y;
+    if PERIODIC {
+        if dx > 0.5 * l {
+            dx -= l;
+        } else if dx < -0.5 * l {
+            dx += l;
+        }
+    }
+    (dx, dy)
+}
+
+/// The loop-invariant numbers of pass 2's pair term.
+struct PairConst {
+    alpha: f64,
+    beta: f64,
+    c: f64,
+    h: f64,
+    eta2: f64,
+    l: f64,
+}
+
+/// The pass-2 pair term of particle i (record `ri`) with neighbour j (`rj`), kernel gradient
+/// `grad` and value `w`: exactly the operations of Fang eq. (27) with eqs. (30)-(38) (and Morris'
+/// term) as the operators write them, component by component.
+#[inline(always)]
+fn pair_term<const PERIODIC: bool, const MORRIS: bool, const ART: bool>(
+    ri: &Rec,
+    rj: &Rec,
+    grad: Vec2,
+    w: f64,
+    k: &PairConst,
+    art: &ArtificialStress,
+) -> (f64, f64) {
+    let mut t = [
+        ri.s[0] + rj.s[0],
+        ri.s[1] + rj.s[1],
+        ri.s[2] + rj.s[2],
+        ri.s[3] + rj.s[3],
+    ];
+    let (dx, dy) = delta::<PERIODIC>(ri.x, ri.y, rj, k.l);
+    let xij = Vec2::new(dx, dy);
+    let vij = Vec2::new(ri.vx - rj.vx, ri.vy - rj.vy);
+    let r2 = xij.norm_squared();
+    let pi = artificial::viscosity(
+        k.alpha,
+        k.beta,
+        k.h,
+        k.c,
+        0.5 * (ri.rho + rj.rho),
+        &vij,
+        &xij,
+        r2,
+    );
+    t[0] -= pi;
+    t[3] -= pi;
+    if ART {
+        // A zero R_i + R_j adds exact zeros: no branch needed.
+        let f = art.pair_factor(w, r2);
+        for (tc, (a, b)) in t.iter_mut().zip(ri.r.iter().zip(&rj.r)) {
+            *tc += (a + b) * f;
+        }
+    }
+    // t * grad, nalgebra's matrix-vector product, t column-major.
+    let mut cx = t[0] * grad.x + t[2] * grad.y;
+    let mut cy = t[1] * grad.x + t[3] * grad.y;
+    if MORRIS {
+        let m = stress::morris_pair(&vij, &xij, &grad, ri.mu + rj.mu, ri.rho, rj.rho, r2, k.eta2);
+        cx += m.x;
+        cy += m.y;
+    }
+    (cx, cy)
+}
+
 impl<K: Kernel, R: Rheology> WcCore<K, R> {
+    /// Records of every particle (fluid and virtual): positions, velocities, densities and
+    /// volumes, for pass 1. The walls' velocities must be in `all_v`.
+    pub(super) fn pack_kinematics(&mut self) {
+        let n = self.all_x.len();
+        self.rec.resize(n, Rec::default());
+        let (ax, av, arho, avol) = (&self.all_x, &self.all_v, &self.all_rho, &self.all_vol);
+        self.rec
+            .par_iter_mut()
+            .with_min_len(MIN_TASK_LIGHT)
+            .enumerate()
+            .for_each(|(i, r)| {
+                r.x = ax[i].x;
+                r.y = ax[i].y;
+                r.vx = av[i].x;
+                r.vy = av[i].y;
+                r.rho = arho[i];
+                r.vol = avol[i];
+            });
+    }
+
+    /// Records' second half, for pass 2: sigma/rho^2, the artificial stress and the viscosity of
+    /// the Laplacian, once pass 1 and the walls have filled them.
+    pub(super) fn pack_stresses(&mut self) {
+        let (asig, aart, amu, arho) = (&self.all_sigma, &self.all_art, &self.all_mu, &self.all_rho);
+        self.rec
+            .par_iter_mut()
+            .with_min_len(MIN_TASK_LIGHT)
+            .enumerate()
+            .for_each(|(i, r)| {
+                let rho = arho[i];
+                r.s = m2(&(asig[i] / (rho * rho)));
+                r.r = m2(&aart[i]);
+                r.mu = amu[i];
+            });
+    }
+
     /// Pass 1 (a gather): velocity gradient (Fang eq. 23), continuity (eq. 26), stresses, and
     /// the kernel values of every pair inside the support, cached for pass 2.
     pub(super) fn pass1(&mut self, fl: &Fluid) {
+        match (self.p.domain.period_x.is_some(), self.art.needs_hessian()) {
+            (false, false) => self.pass1_impl::<false, false>(fl),
+            (false, true) => self.pass1_impl::<false, true>(fl),
+            (true, false) => self.pass1_impl::<true, false>(fl),
+            (true, true) => self.pass1_impl::<true, true>(fl),
+        }
+    }
+
+    fn pass1_impl<const PERIODIC: bool, const HESS: bool>(&mut self, fl: &Fluid) {
         let nf = fl.len();
         let mass = fl.mass;
         self.pairs.resize_for(&self.nlist);
@@ -13,10 +173,10 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
         self.drho.resize(nf, 0.0);
         let (kernel, model, p, art, evss) =
             (&self.kernel, &self.model, &self.p, &self.art, self.evss);
-        let (ax, av, avol, tau_p) = (&self.all_x, &self.all_v, &self.all_vol, &self.tau_p);
-        let (nlist, dom) = (&self.nlist, &self.p.domain);
+        let (rec, tau_p) = (&self.rec, &self.tau_p);
+        let nlist = &self.nlist;
+        let l = self.p.domain.period_x.unwrap_or(0.0);
         let r2max = kernel.radius().powi(2);
-        let need_hess = art.needs_hessian();
         let laplacian = self.laplacian();
         let js = nlist.split_mut(&mut self.pairs.j);
         let gs = nlist.split_mut(&mut self.pairs.grad);
@@ -38,29 +198,33 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
             .enumerate()
             .for_each(
                 |(i, (js, gs, ws, len, kappa_i, drho_i, sigma_i, art_i, hess_i, mu_i))| {
-                    let (xi, vi) = (ax[i], av[i]);
-                    let mut kin = Kinematics::default();
-                    let mut hess = Mat2::zeros();
+                    let ri = &rec[i];
+                    let (xi, yi, vxi, vyi) = (ri.x, ri.y, ri.vx, ri.vy);
+                    // Compact the candidates inside the support (other than i) to the front of
+                    // i's slots, x_ij in the gradient slot and r^2 in the kernel slot, without a
+                    // branch per candidate (a fifth of the list is skin).
                     let mut k = 0;
                     for &j in nlist.of(i) {
-                        let ju = j as usize;
-                        if ju == i {
-                            continue;
-                        }
-                        let xij = dom.delta(&xi, &ax[ju]);
-                        let r2 = xij.norm_squared();
-                        if r2 >= r2max {
-                            continue;
-                        }
-                        let r = r2.sqrt();
-                        let (w, dw_r) = kernel.w_and_dw_over_r(r);
-                        let grad = xij * dw_r;
+                        let (dx, dy) = delta::<PERIODIC>(xi, yi, &rec[j as usize], l);
+                        let r2 = dx * dx + dy * dy;
                         js[k] = j;
-                        gs[k] = grad;
-                        ws[k] = w;
-                        k += 1;
-                        kin.add_pair(&(vi - av[ju]), &grad, avol[ju]);
-                        if need_hess {
+                        gs[k] = Vec2::new(dx, dy);
+                        ws[k] = r2;
+                        k += ((r2 < r2max) & (j as usize != i)) as usize;
+                    }
+                    let mut kin = Kinematics::default();
+                    let mut hess = Mat2::zeros();
+                    for ((j, g), w) in js[..k].iter().zip(&mut gs[..k]).zip(&mut ws[..k]) {
+                        let xij = *g;
+                        let r2 = *w;
+                        let r = r2.sqrt();
+                        let (wv, dw_r) = kernel.w_and_dw_over_r(r);
+                        let grad = xij * dw_r;
+                        *g = grad;
+                        *w = wv;
+                        let rj = &rec[*j as usize];
+                        kin.add_pair(&Vec2::new(vxi - rj.vx, vyi - rj.vy), &grad, rj.vol);
+                        if HESS {
                             hess += artificial::kernel_hessian(kernel, &xij, r2);
                         }
                     }
@@ -89,77 +253,82 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
     /// artificial viscosity (Fang eqs. 30-37, Ren eq. 19) and artificial stress (Fang eq. 38,
     /// Ren eq. 20a); with EVSS, Morris' viscous Laplacian.
     pub(super) fn pass2(&mut self, fl: &Fluid) -> StageReport {
+        let periodic = self.p.domain.period_x.is_some();
+        match (periodic, self.laplacian(), self.art.is_on()) {
+            (false, false, false) => self.pass2_impl::<false, false, false>(fl),
+            (false, false, true) => self.pass2_impl::<false, false, true>(fl),
+            (false, true, false) => self.pass2_impl::<false, true, false>(fl),
+            (false, true, true) => self.pass2_impl::<false, true, true>(fl),
+            (true, false, false) => self.pass2_impl::<true, false, false>(fl),
+            (true, false, true) => self.pass2_impl::<true, false, true>(fl),
+            (true, true, false) => self.pass2_impl::<true, true, false>(fl),
+            (true, true, true) => self.pass2_impl::<true, true, true>(fl),
+        }
+    }
+
+    fn pass2_impl<const PERIODIC: bool, const MORRIS: bool, const ART: bool>(
+        &mut self,
+        fl: &Fluid,
+    ) -> StageReport {
         let nf = fl.len();
         let mass = fl.mass;
         self.acc.resize(nf, Vec2::zeros());
         self.wall_acc.resize(nf, Vec2::zeros());
         {
             let p = &self.p;
-            let (ax, av, arho, asr2, aart, amu) = (
-                &self.all_x,
-                &self.all_v,
-                &self.all_rho,
-                &self.all_sr2,
-                &self.all_art,
-                &self.all_mu,
-            );
-            let (pairs, nlist, dom) = (&self.pairs, &self.nlist, &self.p.domain);
+            let rec = &self.rec;
+            let (pairs, nlist) = (&self.pairs, &self.nlist);
+            let l = self.p.domain.period_x.unwrap_or(0.0);
             let h = self.kernel.h();
             let art = &self.art;
-            let use_art = art.is_on();
-            let morris = self.laplacian();
             let eta2 = MORRIS_ETA2 * h * h;
+            let cst = PairConst {
+                alpha: p.alpha,
+                beta: p.beta,
+                c: p.eos.c,
+                h,
+                eta2,
+                l,
+            };
             (&mut self.acc[..], &mut self.wall_acc[..])
                 .into_par_iter()
                 .with_min_len(MIN_TASK)
                 .enumerate()
                 .for_each(|(i, (acc_i, wall_i))| {
-                    let (xi, vi, rhoi, si, ri) = (ax[i], av[i], arho[i], asr2[i], aart[i]);
+                    let ri = &rec[i];
+                    let range = pairs.range(nlist, i);
+                    let (jj, gg, ww) = (
+                        &pairs.j[range.clone()],
+                        &pairs.grad[range.clone()],
+                        &pairs.w[range],
+                    );
+                    // Ascending lists: fluid neighbours first, then virtual ones.
+                    let split = jj.partition_point(|&j| (j as usize) < nf);
                     let mut a = Vec2::zeros();
-                    let mut aw = Vec2::zeros();
-                    for k in pairs.range(nlist, i) {
-                        let j = pairs.j[k] as usize;
-                        let mut t = si + asr2[j];
-                        let xij = dom.delta(&xi, &ax[j]);
-                        let vij = vi - av[j];
-                        let r2 = xij.norm_squared();
-                        let pi = artificial::viscosity(
-                            p.alpha,
-                            p.beta,
-                            h,
-                            p.eos.c,
-                            0.5 * (rhoi + arho[j]),
-                            &vij,
-                            &xij,
-                            r2,
+                    for ((&j, &g), &w) in jj[..split].iter().zip(&gg[..split]).zip(&ww[..split]) {
+                        let (cx, cy) = pair_term::<PERIODIC, MORRIS, ART>(
+                            ri,
+                            &rec[j as usize],
+                            g,
+                            w,
+                            &cst,
+                            art,
                         );
-                        t[(0, 0)] -= pi;
-                        t[(1, 1)] -= pi;
-                        if use_art {
-                            let rsum = ri + aart[j];
-                            if rsum != Mat2::zeros() {
-                                t += rsum * art.pair_factor(pairs.w[k], r2);
-                            }
-                        }
-                        let grad = pairs.grad[k];
-                        let mut contrib = t * grad;
-                        if morris {
-                            contrib += stress::morris_pair(
-                                &vij,
-                                &xij,
-                                &grad,
-                                amu[i] + amu[j],
-                                rhoi,
-                                arho[j],
-                                r2,
-                                eta2,
-                            );
-                        }
-                        if j < nf {
-                            a += contrib;
-                        } else {
-                            aw += contrib;
-                        }
+                        a.x += cx;
+                        a.y += cy;
+                    }
+                    let mut aw = Vec2::zeros();
+                    for ((&j, &g), &w) in jj[split..].iter().zip(&gg[split..]).zip(&ww[split..]) {
+                        let (cx, cy) = pair_term::<PERIODIC, MORRIS, ART>(
+                            ri,
+                            &rec[j as usize],
+                            g,
+                            w,
+                            &cst,
+                            art,
+                        );
+                        aw.x += cx;
+                        aw.y += cy;
                     }
                     *wall_i = aw * mass;
                     *acc_i = (a + aw) * mass + p.gravity;
