@@ -26,7 +26,7 @@
 //! `Inflow::momentum`, so the fluid's momentum balance closes: the wall impulse equals the
 //! inflow's momentum plus the gravity impulse on all particles minus the momentum held.
 //! A scheme that needs a pressure condition at the inlet (ISPH: Neumann, King & Lind's moving
-//! ghosts) finds the inlet particles the same way, through [`Nozzle::contains`].
+//! ghosts) finds the inlet particles the same way, through [`Inflow::holds`] on the state.
 //!
 //! **Outputs** (besides the health figures, the wall forces and `particle_count`):
 //!
@@ -87,10 +87,20 @@ impl Nozzle {
     }
 
     /// Whether a particle at `x` is inside the nozzle (above the exit line, within the jet
-    /// width): such a particle is held at the inflow state.
+    /// width): such a particle is held at the inflow state. The state's copy of this test,
+    /// [`Inflow::holds`], is what the schemes read.
     #[inline]
     pub fn contains(&self, x: &Vec2) -> bool {
-        x.y > self.exit && x.x.abs() < self.half_width
+        self.inflow().holds(x)
+    }
+
+    /// The inflow bookkeeping of this nozzle at t = 0.
+    pub fn inflow(&self) -> Inflow {
+        Inflow {
+            exit: self.exit,
+            half_width: self.half_width,
+            ..Default::default()
+        }
     }
 
     /// x of inflow column i.
@@ -224,7 +234,7 @@ impl Scene for Jet {
         st.inflow = Some(Inflow {
             velocity: cfg.inputs().jet_velocity,
             conformation: st.fluid.conf.first().copied().unwrap_or_else(Mat2::zeros),
-            ..Default::default()
+            ..Nozzle::from_config(cfg).inflow()
         });
     }
 
