@@ -276,3 +276,33 @@ fn the_inlet_follows_a_step_change_of_jet_velocity() {
         .unwrap_err();
     assert!(e.to_string().contains("jet_velocity"), "{e}");
 }
+
+#[test]
+fn container_walls_hold_the_heap() {
+    // H = 4 D: without walls the heap spreads beyond 2 D of the axis by 0.3 s; walls 2.5 D
+    // apart hold it.
+    let run = |width: f64| {
+        let mut sim = Simulation::new(cfg(4, 4.0, &[("container_width", r(width))])).unwrap();
+        sim.advance_to(0.3).unwrap();
+        let st = sim.state();
+        let reach = st.fluid.x.iter().fold(0.0f64, |m, x| m.max(x.x.abs()));
+        (reach, st.walls.len(), sim.outputs())
+    };
+    let (free, n, o) = run(0.0);
+    assert_eq!(n, 1);
+    assert!(free > 2.0 * D, "the free heap reaches {free} m");
+    let (held, n, o_held) = run(2.5 * D);
+    assert_eq!(n, 3, "plate and two side walls");
+    assert!(
+        held < 1.25 * D,
+        "fluid {held} m from the axis, walls at {} m",
+        1.25 * D
+    );
+    // The walls hold the fluid, so the heap piles higher.
+    assert!(
+        o_held.drop_height > o.drop_height,
+        "{} vs {}",
+        o_held.drop_height,
+        o.drop_height
+    );
+}
