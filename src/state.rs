@@ -37,6 +37,22 @@ pub struct Inflow {
     pub momentum: Vec2,
     /// Conformation tensor of the fluid entering (the model's at rest; unused without one).
     pub conformation: Mat2,
+    /// The inlet's region: above the height `exit` [m] and within `half_width` [m] of the
+    /// vertical x = 0 (see [`Inflow::holds`]).
+    pub exit: f64,
+    pub half_width: f64,
+}
+
+impl Inflow {
+    /// Whether a particle at `x` is held in the inlet (its velocity, density and conformation
+    /// are prescribed there). A scheme that treats the inlet's pressure its own way (ISPH: a
+    /// Neumann condition, as King & Lind's moving ghost particles impose) tells these particles
+    /// apart by this test; the weakly compressible schemes need nothing (the inlet's density
+    /// rho0 is zero pressure).
+    #[inline]
+    pub fn holds(&self, x: &Vec2) -> bool {
+        x.y > self.exit && x.x.abs() < self.half_width
+    }
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

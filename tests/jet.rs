@@ -219,3 +219,90 @@ fn newtonian_jet_buckles_from_twelve_jet_widths_not_from_two() {
     assert!(low.amplitude < D / 20.0, "amplitude {} m", low.amplitude);
     assert!(low.onset.is_none());
 }
+
+#[test]
+fn the_inlet_follows_a_step_change_of_jet_velocity() {
+    let c = cfg(4, 4.0, &[]);
+    let mut sim = Simulation::new(c.clone()).unwrap();
+    let row = RHO * D * sim.effective_config().dx();
+    let n0 = sim.state().fluid.len();
+    sim.advance_to(0.05).unwrap();
+    // Twice the flow from t = 0.05 s on: a pump's step.
+    sim.set_inputs(viscosph::state::Inputs {
+        jet_velocity: 2.0 * U0,
+        ..sim.inputs()
+    })
+    .unwrap();
+    assert_eq!(
+        sim.state().time,
+        0.05,
+        "the step acts from the communication point"
+    );
+    for k in 1..=10 {
+        let t = 0.05 + 0.005 * k as f64;
+        sim.advance_to(t).unwrap();
+        let expected = RHO * D * (U0 * 0.05 + 2.0 * U0 * (t - 0.05));
+        let o = sim.outputs();
+        // Within one row, plus what entered during the last step (emitted before the next).
+        let lag = RHO * D * 2.0 * U0 * sim.state().last_dt;
+        assert!(
+            (o.injected_mass - expected).abs() <= row + lag,
+            "t = {t}: {} vs {expected}",
+            o.injected_mass
+        );
+        let st = sim.state();
+        assert_eq!(st.fluid.len(), n0 + st.inflow.unwrap().particles as usize);
+        // The nozzle's particles move at the new speed (set before every step, so after one
+        // they are off it only by what one step's forces did).
+        let nz = Nozzle::from_config(sim.effective_config());
+        let off = st
+            .fluid
+            .x
+            .iter()
+            .zip(&st.fluid.v)
+            .filter(|(x, _)| nz.contains(x))
+            .map(|(_, v)| (v - Vec2::new(0.0, -2.0 * U0)).norm())
+            .fold(0.0, f64::max);
+        assert!(
+            off < 0.05 * U0,
+            "t = {t}: nozzle particles off by {off} m/s"
+        );
+    }
+    let e = sim
+        .set_inputs(viscosph::state::Inputs {
+            jet_velocity: f64::NAN,
+            ..sim.inputs()
+        })
+        .unwrap_err();
+    assert!(e.to_string().contains("jet_velocity"), "{e}");
+}
+
+#[test]
+fn container_walls_hold_the_heap() {
+    // H = 4 D: without walls the heap spreads beyond 2 D of the axis by 0.3 s; walls 2.5 D
+    // apart hold it.
+    let run = |width: f64| {
+        let mut sim = Simulation::new(cfg(4, 4.0, &[("container_width", r(width))])).unwrap();
+        sim.advance_to(0.3).unwrap();
+        let st = sim.state();
+        let reach = st.fluid.x.iter().fold(0.0f64, |m, x| m.max(x.x.abs()));
+        (reach, st.walls.len(), sim.outputs())
+    };
+    let (free, n, o) = run(0.0);
+    assert_eq!(n, 1);
+    assert!(free > 2.0 * D, "the free heap reaches {free} m");
+    let (held, n, o_held) = run(2.5 * D);
+    assert_eq!(n, 3, "plate and two side walls");
+    assert!(
+        held < 1.25 * D,
+        "fluid {held} m from the axis, walls at {} m",
+        1.25 * D
+    );
+    // The walls hold the fluid, so the heap piles higher.
+    assert!(
+        o_held.drop_height > o.drop_height,
+        "{} vs {}",
+        o_held.drop_height,
+        o.drop_height
+    );
+}

@@ -26,7 +26,7 @@
 //! `Inflow::momentum`, so the fluid's momentum balance closes: the wall impulse equals the
 //! inflow's momentum plus the gravity impulse on all particles minus the momentum held.
 //! A scheme that needs a pressure condition at the inlet (ISPH: Neumann, King & Lind's moving
-//! ghosts) finds the inlet particles the same way, through [`Nozzle::contains`].
+//! ghosts) finds the inlet particles the same way, through [`Inflow::holds`] on the state.
 //!
 //! **Outputs** (besides the health figures, the wall forces and `particle_count`):
 //!
@@ -87,10 +87,20 @@ impl Nozzle {
     }
 
     /// Whether a particle at `x` is inside the nozzle (above the exit line, within the jet
-    /// width): such a particle is held at the inflow state.
+    /// width): such a particle is held at the inflow state. The state's copy of this test,
+    /// [`Inflow::holds`], is what the schemes read.
     #[inline]
     pub fn contains(&self, x: &Vec2) -> bool {
-        x.y > self.exit && x.x.abs() < self.half_width
+        self.inflow().holds(x)
+    }
+
+    /// The inflow bookkeeping of this nozzle at t = 0.
+    pub fn inflow(&self) -> Inflow {
+        Inflow {
+            exit: self.exit,
+            half_width: self.half_width,
+            ..Default::default()
+        }
     }
 
     /// x of inflow column i.
@@ -175,6 +185,24 @@ impl Scene for Jet {
                 cfg.jet_width + 4.0 * dx
             )));
         }
+        let plate = Plate::new(cfg.plate_inclination, dx);
+        let top = cfg.nozzle_height + buffer_rows(cfg) as f64 * dx;
+        for wall in side_walls(&plate, cfg.container_width) {
+            let inside = [-0.5, 0.5].iter().all(|&f| {
+                [cfg.nozzle_height, top]
+                    .iter()
+                    .all(|&y| wall.d(&Vec2::new(f * cfg.jet_width, y)) > 2.0 * dx)
+            });
+            if !inside {
+                return Err(ConfigError::Inconsistent(format!(
+                    "container_width = {} m: the side walls stand perpendicular to the plate \
+                     inclined at {} deg, and at the nozzle's height ({} m) one of them cuts \
+                     through the nozzle or passes within two particle spacings of it; widen \
+                     the container or lower the nozzle",
+                    cfg.container_width, cfg.plate_inclination, cfg.nozzle_height
+                )));
+            }
+        }
         Ok(())
     }
 
@@ -224,7 +252,7 @@ impl Scene for Jet {
         st.inflow = Some(Inflow {
             velocity: cfg.inputs().jet_velocity,
             conformation: st.fluid.conf.first().copied().unwrap_or_else(Mat2::zeros),
-            ..Default::default()
+            ..Nozzle::from_config(cfg).inflow()
         });
     }
 
@@ -460,6 +488,14 @@ mod tests {
             .to_string()
             .contains("container_width"));
         c.container_width = 0.0;
+        assert!(Jet.validate(&c).is_ok());
+        // Walls perpendicular to a 30 degree plate, 6 cm apart, lean downhill: at the nozzle's
+        // height (72 mm) the uphill wall is at x = +6.9 mm, the nozzle outside the container.
+        c.plate_inclination = 30.0;
+        c.container_width = 0.06;
+        let e = Jet.validate(&c).unwrap_err().to_string();
+        assert!(e.contains("container_width") && e.contains("nozzle"), "{e}");
+        c.container_width = 0.2;
         assert!(Jet.validate(&c).is_ok());
     }
 

@@ -246,7 +246,7 @@ pub struct Snapshot {
     /// The wall surfaces, each a line through a point along a unit tangent: the drop's plate,
     /// both walls of the channel (y = 0 and y = H), none for the elliptical drop.
     pub plates: Vec<PlateLine>,
-    /// A nozzle to draw: its exit from x = .0 to .1 at height .2, walls up from there \[m\].
+    /// A nozzle to draw: its exit from x = .0 to .1 at height .2 \[m\], walls up from there.
     pub nozzle: Option<(f64, f64, f64)>,
 }
 
@@ -456,8 +456,8 @@ pub fn particle_snapshots(
             }
         }
         if let Some((a, b, y)) = shot.nozzle {
-            // The nozzle's two walls, from the exit up to the top of the window.
-            let top = y1.max(y);
+            // The nozzle's two walls, from the exit up one and a half jet widths.
+            let top = y + 1.5 * (b - a);
             for x in [a, b] {
                 chart.draw_series(std::iter::once(PathElement::new(
                     vec![(x * scale, y * scale), (x * scale, top * scale)],
