@@ -229,10 +229,11 @@ pub const AREA_CELLS_PER_DX: f64 = 8.0;
 /// within dx of a particle (which bridges the gaps between neighbours up to 2 dx apart), eroded
 /// by dx / 2 (which brings a free surface back from dx beyond its outermost particles to dx / 2
 /// beyond them, where a particle's dx x dx cell ends, and the plate side back to the plate line).
-/// On the initial lattice drop this is N dx^2 + 0.32 % at 20 particles per diameter and
-/// + 0.21 % at 40 (the closing rounds the lattice's staircase) (test `covered_area_of_a_lattice_drop_is_its_particle_area`); it shrinks when
-/// particles crowd together and grows when they spread apart, which sum(m / rho) of an
-/// incompressible scheme cannot see.
+/// On the initial lattice drop this exceeds N dx^2 by 0.32 % at 20 particles per diameter and
+/// by 0.21 % at 40 (the closing rounds the lattice's staircase; test
+/// `covered_area_of_a_lattice_drop_is_its_particle_area`); it shrinks when particles crowd
+/// together and grows when they spread apart, which sum(m / rho) of an incompressible scheme
+/// cannot see.
 pub fn covered_area(x: &[Vec2], dx: f64, plate: Option<&Plate>) -> f64 {
     if x.is_empty() {
         return 0.0;
@@ -373,7 +374,10 @@ mod tests {
             assert!(on.abs() < 4e-3, "ppd {ppd} on the plate: {on}");
             let squeezed: Vec<Vec2> = x.iter().map(|p| Vec2::new(p.x * 0.99, p.y)).collect();
             let e = covered_area(&squeezed, dx, None) / (n * dx * dx) - 1.0;
-            assert!((e - free + 0.01).abs() < 3e-3, "ppd {ppd}: squeezed {e} vs {free}");
+            assert!(
+                (e - free + 0.01).abs() < 3e-3,
+                "ppd {ppd}: squeezed {e} vs {free}"
+            );
         }
     }
 }

@@ -199,9 +199,9 @@ impl Boundary for MirrorWall {
     ) {
         let plate = self.plate(wall);
         for (o, &i) in out.iter_mut().zip(&self.mirrors.parent) {
-            *o = tau_p
-                .get(i as usize)
-                .map_or(Mat2::zeros(), |t| plate.mirror_stress(t, StressMirror::NoSlip));
+            *o = tau_p.get(i as usize).map_or(Mat2::zeros(), |t| {
+                plate.mirror_stress(t, StressMirror::NoSlip)
+            });
         }
     }
 

@@ -156,8 +156,7 @@ impl<R: Rheology> Isph<R> {
     /// Viscosity of the Laplacian term (solvent + EVSS's alpha_V eta0) at velocity gradient k.
     #[inline]
     fn laplacian_viscosity(&self, k: &Mat2) -> f64 {
-        self.evss
-            .viscous_viscosity(self.model.solvent_viscosity(k))
+        self.evss.viscous_viscosity(self.model.solvent_viscosity(k))
     }
 
     /// King & Lind eq. (28), see the module documentation.
@@ -301,7 +300,7 @@ impl<R: Rheology> Scheme for Isph<R> {
                 wall.place(plate, &xs, &fluid_grid, radius, &mut self.all_x);
                 let uw = plate.wall_velocity();
                 parent.extend_from_slice(&wall.mirrors().parent);
-                u_wall.extend(std::iter::repeat(uw).take(wall.mirrors().parent.len()));
+                u_wall.extend(std::iter::repeat_n(uw, wall.mirrors().parent.len()));
             }
         }
         let all_x = &self.all_x;
@@ -531,7 +530,12 @@ impl<R: Rheology> Scheme for Isph<R> {
         let p_all: Vec<f64> = pres
             .iter()
             .copied()
-            .chain(parent.iter().zip(&offsets).map(|(&i, o)| pres[i as usize] + o))
+            .chain(
+                parent
+                    .iter()
+                    .zip(&offsets)
+                    .map(|(&i, o)| pres[i as usize] + o),
+            )
             .collect();
         let proj: Vec<(Vec2, Vec2)> = (0..n)
             .into_par_iter()
@@ -607,9 +611,14 @@ fn check_health(fl: &Fluid, walls: &[Plate], dx: f64, domain_radius: f64) -> Res
     for i in 0..fl.len() {
         if !(fl.x[i].iter().all(|x| x.is_finite())
             && fl.v[i].iter().all(|x| x.is_finite())
-            && fl.conf.get(i).is_none_or(|a| a.iter().all(|x| x.is_finite())))
+            && fl
+                .conf
+                .get(i)
+                .is_none_or(|a| a.iter().all(|x| x.is_finite())))
         {
-            return Err(format!("non-finite value (NaN or Inf) on fluid particle {i}"));
+            return Err(format!(
+                "non-finite value (NaN or Inf) on fluid particle {i}"
+            ));
         }
         if fl.x[i].norm() > domain_radius {
             return Err(format!(
