@@ -250,3 +250,36 @@ fn implicit_viscosity_converges_to_explicit() {
     assert!(rows[0].2 * 3 < rows[0].3, "{rows:?}");
     assert!(rows[1].1 < rows[0].1 && rows[2].1 < rows[1].1, "{rows:?}");
 }
+
+/// Every rheology runs under ISPH through the project's rheology code: the K&L drop (De = 1,
+/// beta = 0.1 for the polymer models) spreads past its diameter by t* = 2.5 with finite outputs
+/// and, for the models with a conformation tensor, a positive-definite one. UCM (no solvent)
+/// takes EVSS, as King & Lind need it for beta = 0 (section IV.A.2).
+#[test]
+fn every_rheology_spreads_the_drop() {
+    for (name, _) in viscosph::config::RHEOLOGIES {
+        let evss = if *name == "ucm" { 0.1 } else { 0.0 };
+        let c = cfg(&[
+            ("evss_alpha", r(evss)),
+            ("rheology", s(name)),
+            ("relaxation_time", r(0.02)),
+            ("viscosity_ratio", r(0.1)),
+            ("cross_viscosity_inf", r(0.5)),
+            ("particles_per_diameter", i(12)),
+        ]);
+        let (ser, err, _) = series(&c, 2.5 * T_STAR, 0.25 * T_STAR);
+        assert!(err.is_none(), "{name}: {err:?}");
+        let last = ser.last().unwrap().1;
+        assert!(
+            last.drop_width / W > 1.3,
+            "{name}: W* = {}",
+            last.drop_width / W
+        );
+        assert!(
+            ser.iter()
+                .all(|(_, o)| o.values().iter().all(|v| v.is_finite())
+                    && o.min_conformation_det > 0.0),
+            "{name}"
+        );
+    }
+}
