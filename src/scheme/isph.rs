@@ -401,6 +401,12 @@ impl<R: Rheology> Scheme for Isph<R> {
         } else {
             Vec::new()
         };
+        if let Some(i) = conf.iter().position(|a| !a.iter().all(|v| v.is_finite())) {
+            return Err(format!(
+                "the conformation tensor of particle {i} became non-finite: the polymer stress \
+                 integration blew up (max |u| = {umax:.3e} m/s)"
+            ));
+        }
         let tau_p: Vec<Mat2> = conf.iter().map(|a| self.model.polymer_stress(a)).collect();
         let phi: Vec<Mat2> = if R::ELASTIC {
             tau_p
