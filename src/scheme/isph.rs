@@ -15,8 +15,8 @@
 //!    explicitly as in the paper, or implicitly (backward Euler, [`ppe::solve_viscous`]: the
 //!    default, see below);
 //! 5. the PPE (25) `lap p = (rho / dt) div u*` ([`ppe::assemble_poisson`], BiCGStab + ILU(0) warm
-//!    started from p^n), free-surface particles with the Dirichlet value of (35a) from the
-//!    predictor's velocity gradient and stress, mirrors Neumann;
+//!    started from p^n), free-surface particles Dirichlet (p = 0, see below: the paper's (35a)
+//!    was measured unstable here), mirrors Neumann with the hydrostatic offset;
 //! 6. projection (26) `u^{n+1} = u* - dt grad p / rho + dt g`;
 //! 7. advection (27) `r^{n+1} = r^n + dt/2 (u^n + u^{n+1} + 2 u_ps)`.
 //!
