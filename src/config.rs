@@ -148,6 +148,26 @@ pub const VISCOUS_OPERATORS: &[(&str, &str)] = &[
         "solvent viscosity through Morris, Fox & Zhu 1997's viscous Laplacian (the form of King & Lind eq. 8)",
     ),
 ];
+pub const ISPH_FRAMES: &[(&str, &str)] = &[
+    (
+        "lagrangian",
+        "particles move with the flow plus a small shifting velocity (King & Lind 2021 section III.E)",
+    ),
+    (
+        "eulerian",
+        "particles stay where they are and the flow is convected through them (King & Lind 2021 section III.A); closed domains only",
+    ),
+];
+pub const VISCOUS_STEPS: &[(&str, &str)] = &[
+    (
+        "implicit",
+        "ISPH: solvent viscosity by an implicit (backward Euler) Laplacian solve, so the viscous limit of King & Lind eq. (28) does not set the step",
+    ),
+    (
+        "explicit",
+        "ISPH: solvent viscosity explicit in the predictor, King & Lind eq. (24), with the viscous limit of eq. (28)",
+    ),
+];
 pub const EQUATIONS_OF_STATE: &[(&str, &str)] = &[
     ("linear", "p = c^2 (rho - rho0), Fang 2006 eq. 10"),
     (
@@ -181,18 +201,18 @@ pub const PARAMS: &[ParamSpec] = &[
     ParamSpec { name: "cross_K", value_reference: 17, kind: real(1.0, 0.0, 1.0e6), unit: "s", description: "Cross model time constant K (Ren 2015 eq. 5)" },
     ParamSpec { name: "cross_m", value_reference: 18, kind: real(1.0, 0.0, 10.0), unit: "1", description: "Cross model exponent m (Ren 2015 eq. 5)" },
     ParamSpec { name: "particles_per_diameter", value_reference: 19, kind: Kind::Integer { default: 20, min: 4, max: 4000 }, unit: "", description: "Resolution: lattice spacing dx = drop_diameter / particles_per_diameter" },
-    ParamSpec { name: "sound_speed", value_reference: 20, kind: real(0.0, 0.0, 1.0e5), unit: "m/s", description: "Artificial speed of sound c in the equation of state; 0 = automatic: 10 times the largest speed the scene can reach (impact speed plus free fall), for about 1 % density variation" },
-    ParamSpec { name: "artificial_viscosity_alpha", value_reference: 21, kind: real(1.0, 0.0, 10.0), unit: "1", description: "Monaghan artificial viscosity alpha (Fang 2006 eq. 31)" },
-    ParamSpec { name: "artificial_viscosity_beta", value_reference: 22, kind: real(2.0, 0.0, 10.0), unit: "1", description: "Monaghan artificial viscosity beta (Fang 2006 eq. 31)" },
-    ParamSpec { name: "artificial_stress_epsilon", value_reference: 23, kind: real(0.5, 0.0, 1.0), unit: "1", description: "Artificial stress epsilon against the tensile instability (Fang 2006 eq. 42); 0 switches it off" },
-    ParamSpec { name: "time_step_factor", value_reference: 24, kind: Kind::Real { default: 0.3, min: 0.0, max: 1.0, min_open: true, max_open: false }, unit: "1", description: "Safety factor applied to the time-step limits (Fang 2006 eqs. 51-53)" },
-    ParamSpec { name: "smoothing_ratio", value_reference: 25, kind: real(1.5, 1.0, 3.0), unit: "1", description: "Smoothing length over particle spacing h/dx" },
-    ParamSpec { name: "conformation_method", value_reference: 26, kind: Kind::Enumeration { type_name: "ConformationMethod", items: CONFORMATION_METHODS, default: "direct" }, unit: "", description: "How the conformation tensor is integrated" },
+    ParamSpec { name: "sound_speed", value_reference: 20, kind: real(0.0, 0.0, 1.0e5), unit: "m/s", description: "Artificial speed of sound c in the equation of state; 0 = automatic: 10 times the largest speed the scene can reach (impact speed plus free fall), for about 1 % density variation. Ignored under isph (incompressible: no equation of state)" },
+    ParamSpec { name: "artificial_viscosity_alpha", value_reference: 21, kind: real(1.0, 0.0, 10.0), unit: "1", description: "Monaghan artificial viscosity alpha (Fang 2006 eq. 31). Ignored under isph" },
+    ParamSpec { name: "artificial_viscosity_beta", value_reference: 22, kind: real(2.0, 0.0, 10.0), unit: "1", description: "Monaghan artificial viscosity beta (Fang 2006 eq. 31). Ignored under isph" },
+    ParamSpec { name: "artificial_stress_epsilon", value_reference: 23, kind: real(0.5, 0.0, 1.0), unit: "1", description: "Artificial stress epsilon against the tensile instability (Fang 2006 eq. 42); 0 switches it off. Ignored under isph (no tensile instability to counter)" },
+    ParamSpec { name: "time_step_factor", value_reference: 24, kind: Kind::Real { default: 0.3, min: 0.0, max: 1.0, min_open: true, max_open: false }, unit: "1", description: "Safety factor applied to the time-step limits (Fang 2006 eqs. 51-53); under isph the coefficient of King & Lind eq. (28) is 2/3 of it (the default 0.3 gives their 0.2)" },
+    ParamSpec { name: "smoothing_ratio", value_reference: 25, kind: real(1.5, 1.0, 3.0), unit: "1", description: "Smoothing length over particle spacing h/dx. Ignored under isph, which uses King & Lind's quintic kernel with h = 1.3 dx" },
+    ParamSpec { name: "conformation_method", value_reference: 26, kind: Kind::Enumeration { type_name: "ConformationMethod", items: CONFORMATION_METHODS, default: "auto" }, unit: "", description: "How the conformation tensor is integrated; auto = direct under wcsph and pdri, log-conformation under isph" },
     ParamSpec { name: "evss_alpha", value_reference: 27, kind: real(0.0, 0.0, 1.0), unit: "1", description: "EVSS added viscosity alpha_V / (1 - beta) scale (King & Lind eqs. 6-8); 0 = off" },
     ParamSpec { name: "artificial_stress_kind", value_reference: 28, kind: Kind::Enumeration { type_name: "ArtificialStress", items: ARTIFICIAL_STRESS_KINDS, default: "fang" }, unit: "", description: "Which artificial stress counters the tensile instability" },
-    ParamSpec { name: "artificial_stress_b", value_reference: 29, kind: real(0.8, 0.0, 10.0), unit: "1", description: "Coefficient b of Ren's artificial stress (Ren 2015 eq. 20b)" },
-    ParamSpec { name: "density_reinit_interval", value_reference: 30, kind: Kind::Integer { default: 20, min: 0, max: 1_000_000 }, unit: "", description: "PDRI: steps between density reinitialisations (0 = never)" },
-    ParamSpec { name: "equation_of_state", value_reference: 31, kind: Kind::Enumeration { type_name: "EquationOfState", items: EQUATIONS_OF_STATE, default: "linear" }, unit: "", description: "Equation of state relating pressure to density" },
+    ParamSpec { name: "artificial_stress_b", value_reference: 29, kind: real(0.8, 0.0, 10.0), unit: "1", description: "Coefficient b of Ren's artificial stress (Ren 2015 eq. 20b). Ignored under isph" },
+    ParamSpec { name: "density_reinit_interval", value_reference: 30, kind: Kind::Integer { default: 20, min: 0, max: 1_000_000 }, unit: "", description: "PDRI: steps between density reinitialisations (0 = never). Ignored under isph" },
+    ParamSpec { name: "equation_of_state", value_reference: 31, kind: Kind::Enumeration { type_name: "EquationOfState", items: EQUATIONS_OF_STATE, default: "linear" }, unit: "", description: "Equation of state relating pressure to density. Ignored under isph" },
     ParamSpec { name: "fracture_void_fraction", value_reference: 32, kind: real(0.02, 0.0, 1.0), unit: "1", description: "Health: fraction of the fluid's area torn open into holes beyond which the run stops with a tensile-instability fracture (0 = never check)" },
     ParamSpec { name: "threads", value_reference: 40, kind: Kind::Integer { default: 0, min: 0, max: 1024 }, unit: "", description: "Worker threads of this simulation's own thread pool; 0 = the RAYON_NUM_THREADS environment variable, else one per core. Results do not depend on it" },
     ParamSpec { name: "channel_width", value_reference: 41, kind: real_pos(0.02, 100.0), unit: "m", description: "Channel scene: distance H between the two walls; particles_per_diameter counts particles across it" },
@@ -204,6 +224,8 @@ pub const PARAMS: &[ParamSpec] = &[
     ParamSpec { name: "nozzle_height", value_reference: 46, kind: real_pos(0.072, 100.0), unit: "m", description: "Jet scene: height of the nozzle exit above the impact point, measured vertically (King & Lind 2021: 12 D)" },
     ParamSpec { name: "jet_velocity", value_reference: 47, kind: real(0.2, 0.0, 100.0), unit: "m/s", description: "Input: jet scene: speed of the fluid leaving the nozzle, vertically down (King & Lind 2021: 0.2 m/s). A co-simulation master (a pump or valve model) may change it at every communication point; this is its start value, which also sets the automatic sound speed" },
     ParamSpec { name: "container_width", value_reference: 48, kind: real(0.0, 0.0, 100.0), unit: "m", description: "Jet scene: distance between the container's side walls, centred on the impact point and perpendicular to the plate; 0 = no side walls" },
+    ParamSpec { name: "isph_frame", value_reference: 49, kind: Kind::Enumeration { type_name: "IsphFrame", items: ISPH_FRAMES, default: "lagrangian" }, unit: "", description: "ISPH: Lagrangian particles with shifting, or Eulerian (fixed particles; only for domains without a free surface)" },
+    ParamSpec { name: "isph_viscous_step", value_reference: 50, kind: Kind::Enumeration { type_name: "ViscousStep", items: VISCOUS_STEPS, default: "implicit" }, unit: "", description: "ISPH: solvent viscosity implicit (the time step is then set by the flow speed and the polymer) or explicit as in King & Lind eq. (24)" },
 ];
 
 /// The rheology is built here, next to the table that names its parameters, so that the
@@ -345,6 +367,12 @@ crate::choice_enum!(
     /// Equation of state.
     EquationOfState, EQUATIONS_OF_STATE, Linear = "linear", Tait = "tait");
 crate::choice_enum!(
+    /// ISPH particle motion.
+    IsphFrame, ISPH_FRAMES, Lagrangian = "lagrangian", Eulerian = "eulerian");
+crate::choice_enum!(
+    /// ISPH solvent viscosity: implicit or explicit.
+    ViscousStep, VISCOUS_STEPS, Implicit = "implicit", Explicit = "explicit");
+crate::choice_enum!(
     /// How the solvent's viscous force is discretised.
     ViscousOperator, VISCOUS_OPERATORS, Auto = "auto", Nested = "nested", Laplacian = "laplacian");
 
@@ -415,6 +443,8 @@ pub struct SceneConfig {
     pub container_width: f64,
     /// Start value of the input `plate_velocity` (see [`INPUT_NAMES`]).
     pub plate_velocity: f64,
+    pub isph_frame: IsphFrame,
+    pub isph_viscous_step: ViscousStep,
 }
 
 /// Automatic sound speed over the largest expected flow speed: 10 for about 1 % density
@@ -469,6 +499,8 @@ impl Default for SceneConfig {
             jet_velocity: 0.0,
             container_width: 0.0,
             plate_velocity: 0.0,
+            isph_frame: IsphFrame::Lagrangian,
+            isph_viscous_step: ViscousStep::Implicit,
         };
         for p in PARAMS {
             let v = match p.kind {
@@ -593,6 +625,10 @@ impl SceneConfig {
                     "viscous_operator" => {
                         self.viscous_operator = ViscousOperator::parse(&text).ok_or_else(bad)?
                     }
+                    "isph_frame" => self.isph_frame = IsphFrame::parse(&text).ok_or_else(bad)?,
+                    "isph_viscous_step" => {
+                        self.isph_viscous_step = ViscousStep::parse(&text).ok_or_else(bad)?
+                    }
                     _ => unreachable!("enumeration row without field: {name}"),
                 }
             }
@@ -619,6 +655,8 @@ impl SceneConfig {
                 "artificial_stress_kind" => self.artificial_stress_kind.index(),
                 "equation_of_state" => self.equation_of_state.index(),
                 "viscous_operator" => self.viscous_operator.index(),
+                "isph_frame" => self.isph_frame.index(),
+                "isph_viscous_step" => self.isph_viscous_step.index(),
                 _ => unreachable!(),
             }),
         })
@@ -753,10 +791,15 @@ impl SceneConfig {
             self.clone().set(p.name, v)?;
         }
         let inconsistent = |s: String| Err(ConfigError::Inconsistent(s));
-        if self.scheme == SchemeKind::Isph {
-            return inconsistent(
-                "scheme 'isph' is not implemented yet; use scheme = 'wcsph' or 'pdri'".into(),
-            );
+        if self.scheme == SchemeKind::Isph
+            && self.isph_frame == IsphFrame::Eulerian
+            && self.scene != Scene::Channel
+        {
+            return inconsistent(format!(
+                "isph_frame = 'eulerian' needs a domain without a free surface (scene = 'channel'); \
+                 the scene '{}' has one: use isph_frame = 'lagrangian'",
+                self.scene
+            ));
         }
         if self.rheology == RheologyKind::PttLinear && self.ptt_epsilon > 0.5 {
             return inconsistent(format!(
@@ -1034,7 +1077,9 @@ mod tests {
                 "conformation_method_name",
                 "artificial_stress_kind_name",
                 "equation_of_state_name",
-                "viscous_operator_name"
+                "viscous_operator_name",
+                "isph_frame_name",
+                "isph_viscous_step_name"
             ]
         );
         assert!(name_variable("plate_inclination_name").is_none());

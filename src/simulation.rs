@@ -376,6 +376,12 @@ impl Simulation {
         self.state.fluid.mass * self.state.fluid.len() as f64
     }
 
+    /// Where the incompressible scheme's time went since the simulation was built or restored
+    /// (None for the weakly compressible schemes).
+    pub fn scheme_timings(&self) -> Option<crate::scheme::isph::IsphTimings> {
+        self.scheme.timings()
+    }
+
     /// Positions of the wall particles currently built.
     pub fn wall_positions(&self) -> Vec<Vec2> {
         self.scheme.wall_positions(&self.state)

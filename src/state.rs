@@ -78,6 +78,19 @@ pub struct State {
     pub wall_reflections: u64,
     /// The inlet's bookkeeping, for scenes with inflow (the jet); None otherwise.
     pub inflow: Option<Inflow>,
+    /// Incompressible scheme (isph): the pressure of every fluid particle at the last step, the
+    /// warm start of the next pressure solve (so a restored state continues bitwise); empty for
+    /// the weakly compressible schemes, whose pressure follows from the density.
+    #[serde(default)]
+    pub pressure: Vec<f64>,
+    /// Incompressible scheme: momentum the ALE remapping term u_ps . grad u of King & Lind 2021
+    /// eq. (24) has added since t = 0 [N s/m] (shifting moves particles, not momentum between
+    /// them, so this is the one part of the momentum change that is neither gravity nor wall).
+    #[serde(default)]
+    pub remap_impulse: Vec2,
+    /// Incompressible scheme: linear-solver iterations since t = 0 (pressure, viscous).
+    #[serde(default)]
+    pub solver_iterations: [u64; 2],
 }
 
 impl State {
@@ -95,6 +108,9 @@ impl State {
             void_fraction: 0.0,
             wall_reflections: 0,
             inflow: None,
+            pressure: Vec::new(),
+            remap_impulse: Vec2::zeros(),
+            solver_iterations: [0, 0],
         }
     }
 

@@ -129,6 +129,21 @@ const CASES: &[Case] = &[
         records: 6,
     },
     Case {
+        name: "isph_drop_oldroyd_b_30deg",
+        settings: &[
+            ("scheme", S("isph")),
+            ("rheology", S("oldroyd_b")),
+            ("conformation_method", S("log")),
+            ("isph_frame", S("lagrangian")),
+            ("isph_viscous_step", S("implicit")),
+            ("plate_inclination", R(30.0)),
+            ("initial_drop_height", R(0.014)),
+            ("particles_per_diameter", I(16)),
+        ],
+        t_end: 0.008,
+        records: 8,
+    },
+    Case {
         name: "wcsph_elliptical_drop",
         settings: &[
             ("scene", S("elliptical_drop")),

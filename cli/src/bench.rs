@@ -52,6 +52,10 @@ pub enum BenchKind {
     /// Start-up Poiseuille flow against Waters & King: accuracy and order, King & Lind's Wi
     /// sweeps, the non-linear models' steady profiles (see `bench/channel.rs`).
     Channel(channel::ChannelArgs),
+    /// ISPH (King & Lind 2021) on their Newtonian Re = 4 drop: cost with the implicit and the
+    /// explicit viscous step (steps, PPE iterations per step, share of time in the linear
+    /// solves), convergence of W*(t*) at W/dr = 20, 40, 80, and the volume it keeps.
+    Isph,
     /// Redraw the PNGs that the CSV files in --out hold the data of (accuracy.png), without
     /// running anything: for a change of the plot style.
     Replot,
@@ -77,6 +81,7 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
         BenchKind::Rheologies => Some("rheologies"),
         BenchKind::Jet => Some("jet"),
         BenchKind::Channel(_) => Some("channel"),
+        BenchKind::Isph => Some("isph"),
         BenchKind::Report { .. } | BenchKind::Replot => None,
     };
     let report = match args.what {
@@ -87,6 +92,7 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
         BenchKind::Rheologies => bench_rheologies(&args.out, args.quick)?,
         BenchKind::Jet => jet::bench_jet(&args.out, args.quick)?,
         BenchKind::Channel(ref c) => channel::main(c, &args.out, args.quick)?,
+        BenchKind::Isph => bench_isph(&args.out, args.quick)?,
         BenchKind::Report { ref docs } => bench_report(&args.out, docs)?,
         BenchKind::Replot => bench_replot(&args.out)?,
     };
@@ -120,6 +126,145 @@ pub fn fang_cases() -> Vec<(&'static str, SceneConfig)> {
         ),
         ("oldroyd_b", case(&[])),
     ]
+}
+
+/// King & Lind 2021 section IV.C's drop under ISPH: W = 2 cm, centre W above the plate,
+/// U = 1 m/s, eta0 = 5 Pa s, rho = 1000 kg/m3 (Re = 4).
+pub fn king_lind_drop(rheology: &str, ppd: i64) -> SceneConfig {
+    case(&[
+        ("scheme", Value::Text("isph".into())),
+        ("rheology", Value::Text(rheology.into())),
+        ("viscosity", Value::Real(5.0)),
+        ("initial_drop_height", Value::Real(0.02)),
+        ("particles_per_diameter", Value::Integer(ppd)),
+        ("threads", Value::Integer(2)),
+    ])
+}
+
+/// One ISPH run: outputs every 0.05 t*, the run's cost and where the time went.
+struct IsphRun {
+    series: Vec<(f64, Outputs)>,
+    error: Option<String>,
+    wall: f64,
+    steps: u64,
+    particles: usize,
+    iterations: [u64; 2],
+    timings: viscosph::scheme::isph::IsphTimings,
+}
+
+fn isph_run(cfg: &SceneConfig, t_star_end: f64) -> Result<IsphRun, Box<dyn std::error::Error>> {
+    let ts = time_scale(cfg);
+    let mut sim = Simulation::new(cfg.clone())?;
+    let t0 = std::time::Instant::now();
+    let (series, err) = sim.record(t_star_end * ts, 0.05 * ts);
+    let wall = t0.elapsed().as_secs_f64();
+    let st = sim.state();
+    Ok(IsphRun {
+        series,
+        error: err.map(|e| e.to_string()),
+        wall,
+        steps: st.step,
+        particles: st.fluid.len(),
+        iterations: st.solver_iterations,
+        timings: sim.scheme_timings().unwrap_or_default(),
+    })
+}
+
+fn bench_isph(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::Error>> {
+    let t_star_end = if quick { 2.0 } else { 8.0 };
+    let speed_ppd = if quick { 16 } else { 40 };
+    let mut md = format!(
+        "Newtonian drop of King & Lind 2021 IV.C (Re = 4) to t* = {t_star_end}, 2 threads, {}.\n\n",
+        machine_description()
+    );
+    md.push_str("| viscous step | particles/W | particles | steps | wall [s] | PPE iterations/step | viscous iterations/step | time in PPE | time in viscous solve | W*(end) | max \\|volume_error\\| |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
+    let mut csv = String::from("kind,viscous_step,ppd,particles,steps,wall_seconds,ppe_iterations,viscous_iterations,ppe_seconds,viscous_seconds,w_end,max_volume_error,error\n");
+    let row = |md: &mut String,
+               csv: &mut String,
+               kind: &str,
+               step: &str,
+               ppd: i64,
+               r: &IsphRun|
+     -> std::fmt::Result {
+        let n = r.steps.max(1) as f64;
+        let w_end = r
+            .series
+            .last()
+            .map_or(f64::NAN, |(_, o)| o.drop_width / 0.02);
+        let vmax = r
+            .series
+            .iter()
+            .map(|(_, o)| o.volume_error.abs())
+            .fold(0.0, f64::max);
+        let tot = r.timings.total.max(1e-12);
+        writeln!(
+            md,
+            "| {step} | {ppd} | {} | {} | {:.2} | {:.1} | {:.1} | {:.0} % | {:.0} % | {w_end:.3} | {:.2} % |{}",
+            r.particles,
+            r.steps,
+            r.wall,
+            r.iterations[0] as f64 / n,
+            r.iterations[1] as f64 / n,
+            100.0 * r.timings.pressure_solve / tot,
+            100.0 * r.timings.viscous_solve / tot,
+            100.0 * vmax,
+            r.error.as_ref().map(|e| format!(" broke down: {e}")).unwrap_or_default()
+        )?;
+        writeln!(
+            csv,
+            "{kind},{step},{ppd},{},{},{:.3},{},{},{:.3},{:.3},{w_end:.5},{vmax:.5},\"{}\"",
+            r.particles,
+            r.steps,
+            r.wall,
+            r.iterations[0],
+            r.iterations[1],
+            r.timings.pressure_solve,
+            r.timings.viscous_solve,
+            r.error.clone().unwrap_or_default().replace('"', "'")
+        )
+    };
+    for step in ["implicit", "explicit"] {
+        let mut cfg = king_lind_drop("newtonian", speed_ppd);
+        cfg.set("isph_viscous_step", Value::Text(step.into()))?;
+        eprintln!("bench isph: speed, {step} viscosity, W/dr = {speed_ppd} ...");
+        let r = isph_run(&cfg, t_star_end)?;
+        row(&mut md, &mut csv, "speed", step, speed_ppd, &r)?;
+    }
+    let ppds: &[i64] = if quick { &[10, 14, 20] } else { &[20, 40, 80] };
+    let mut runs = Vec::new();
+    for &ppd in ppds {
+        eprintln!("bench isph: convergence, W/dr = {ppd} ...");
+        let r = isph_run(&king_lind_drop("newtonian", ppd), t_star_end)?;
+        row(&mut md, &mut csv, "convergence", "implicit", ppd, &r)?;
+        runs.push(r);
+    }
+    if runs.iter().all(|r| r.error.is_none()) {
+        let d = 0.02;
+        let e1 = max_width_difference(&runs[0].series, &runs[1].series, d);
+        let e2 = max_width_difference(&runs[1].series, &runs[2].series, d);
+        writeln!(
+            md,
+            "\nConvergence of W*(t*), t* <= {t_star_end} (max norm): |W*_{} - W*_{}| = {e1:.4}, |W*_{} - W*_{}| = {e2:.4}, observed order {:.2}.",
+            ppds[0], ppds[1], ppds[1], ppds[2],
+            observed_order(&runs[0].series, &runs[1].series, &runs[2].series, d)
+        )?;
+        let mut series = String::from("t_star");
+        for &p in ppds {
+            write!(series, ",w_star_{p}")?;
+        }
+        series.push('\n');
+        for k in 0..runs.iter().map(|r| r.series.len()).min().unwrap_or(0) {
+            write!(series, "{:.3}", runs[0].series[k].0 / 0.02)?;
+            for r in &runs {
+                write!(series, ",{:.5}", r.series[k].1.drop_width / 0.02)?;
+            }
+            series.push('\n');
+        }
+        std::fs::write(out.join("isph_convergence.csv"), series)?;
+    }
+    std::fs::write(out.join("isph.csv"), csv)?;
+    std::fs::write(out.join("isph.md"), &md)?;
+    Ok(md)
 }
 
 /// One row of a drop benchmark.

@@ -17,6 +17,10 @@
 //! Particles on the wrong side (d <= 0) get no mirror; putting them back (King's code reflects
 //! them across the wall with [`MirrorPlate::reflect`]) is the scheme's job.
 
+use super::plate::Plate;
+use super::Boundary;
+use crate::neighbors::CellGrid;
+use crate::particles::Fluid;
 use crate::{Mat2, Vec2};
 
 /// How a mirror's polymer stress follows from its parent's.
@@ -118,6 +122,91 @@ impl MirrorPlate {
             StressMirror::NoSlip => *s,
             StressMirror::Reflected => self.reflect_tensor(s),
         }
+    }
+}
+
+impl MirrorPlate {
+    /// The mirror plate of a scene's plate (same frame and motion) with reach `reach`.
+    pub fn of_plate(plate: &Plate, reach: f64) -> Self {
+        Self {
+            origin: plate.origin,
+            t: plate.t,
+            n: plate.n,
+            u_wall: plate.wall_velocity(),
+            reach,
+        }
+    }
+}
+
+/// The mirror-particle wall model of one plate as a [`Boundary`]: [`Boundary::place`] builds a
+/// mirror for every fluid particle within `reach` of the plate (in ascending particle order),
+/// the fill steps give them the no-slip velocity and the [`StressMirror::NoSlip`] stress of
+/// their parents. The incompressible scheme reads the parents ([`MirrorWall::mirrors`]) to
+/// link mirror pressures and velocities to their parents in its linear systems.
+#[derive(Debug, Clone)]
+pub struct MirrorWall {
+    reach: f64,
+    mirrors: Mirrors,
+}
+
+impl MirrorWall {
+    /// Mirrors reaching `reach` from the plate (King's code: 3h, the kernel support).
+    pub fn new(reach: f64) -> Self {
+        Self {
+            reach,
+            mirrors: Mirrors::default(),
+        }
+    }
+
+    /// The mirrors built at the last [`Boundary::place`].
+    pub fn mirrors(&self) -> &Mirrors {
+        &self.mirrors
+    }
+
+    /// The mirror plate of `wall`.
+    pub fn plate(&self, wall: &Plate) -> MirrorPlate {
+        MirrorPlate::of_plate(wall, self.reach)
+    }
+}
+
+impl Boundary for MirrorWall {
+    fn place(
+        &mut self,
+        wall: &mut Plate,
+        fluid_x: &[Vec2],
+        _fluid_grid: &CellGrid,
+        _radius: f64,
+        out: &mut Vec<Vec2>,
+    ) {
+        self.mirrors = build(&self.plate(wall), fluid_x);
+        out.extend_from_slice(&self.mirrors.x);
+    }
+
+    fn fill_velocities(&self, wall: &Plate, fluid: &Fluid, out: &mut [Vec2]) {
+        let plate = self.plate(wall);
+        for (o, &i) in out.iter_mut().zip(&self.mirrors.parent) {
+            *o = plate.mirror_velocity(&fluid.v[i as usize]);
+        }
+    }
+
+    fn fill_stresses(
+        &self,
+        wall: &Plate,
+        _fluid: &Fluid,
+        _sigma: &[Mat2],
+        tau_p: &[Mat2],
+        out: &mut [Mat2],
+    ) {
+        let plate = self.plate(wall);
+        for (o, &i) in out.iter_mut().zip(&self.mirrors.parent) {
+            *o = tau_p.get(i as usize).map_or(Mat2::zeros(), |t| {
+                plate.mirror_stress(t, StressMirror::NoSlip)
+            });
+        }
+    }
+
+    fn positions(&self, _wall: &Plate) -> Vec<Vec2> {
+        self.mirrors.x.clone()
     }
 }
 

@@ -126,11 +126,15 @@ pub const CONFORMATION_METHODS: &[(&str, &str)] = &[
         "direct upper-convected update of the conformation tensor",
     ),
     ("log", "log-conformation (King & Lind eqs. 12-19, 29-33)"),
+    (
+        "auto",
+        "the scheme's own: direct for wcsph and pdri (as Fang 2006 and Ren 2015), log for isph (as King & Lind 2021)",
+    ),
 ];
 
 crate::choice_enum!(
     /// How the conformation tensor is advanced in time.
-    ConformationMethod, CONFORMATION_METHODS, Direct = "direct", Log = "log");
+    ConformationMethod, CONFORMATION_METHODS, Direct = "direct", Log = "log", Auto = "auto");
 
 /// Viscosities and relaxation time shared by every polymer model (King & Lind eqs. 3-9):
 /// solvent eta_s = beta eta0, polymer eta_p = (1 - beta) eta0, relaxation time lambda.
@@ -240,7 +244,8 @@ pub fn advance<R: Rheology>(
     dt: f64,
 ) -> Mat2 {
     match method {
-        ConformationMethod::Direct => {
+        // A scheme resolves `Auto` before it gets here; unresolved it means the direct update.
+        ConformationMethod::Direct | ConformationMethod::Auto => {
             let mut a = a_base + conformation_rate(model, a_eval, kappa) * dt;
             // Keep exact symmetry against round-off.
             let off = 0.5 * (a[(0, 1)] + a[(1, 0)]);

@@ -76,7 +76,7 @@ pub trait Scene: Send + Sync {
 
     /// The outputs of a state (see [`crate::diagnostics`]).
     fn outputs(&self, st: &State, cfg: &SceneConfig) -> Outputs {
-        Outputs::compute(st, cfg.dx(), cfg.density)
+        Outputs::compute_for(st, cfg)
     }
 }
 

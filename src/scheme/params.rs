@@ -47,7 +47,11 @@ impl Params {
             },
             gravity: Vec2::new(0.0, -cfg.gravity),
             dt_factor: cfg.time_step_factor,
-            method: cfg.conformation_method,
+            // The weakly compressible schemes' own choice is the direct update of their papers.
+            method: match cfg.conformation_method {
+                ConformationMethod::Auto => ConformationMethod::Direct,
+                m => m,
+            },
             evss_alpha: cfg.evss_alpha,
             viscous_laplacian: cfg.viscous_operator == ViscousOperator::Laplacian,
             reinit_interval: cfg.density_reinit_interval.max(0) as u64,
