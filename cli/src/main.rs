@@ -111,8 +111,8 @@ fn main() -> ExitCode {
                     );
                     if r.wall_reflections > 0 {
                         println!(
-                            "{} times a particle was put back above the plate (Fang's walls under \
-                             tension; see the wcsph scheme's documentation)",
+                            "{} times a particle that had crossed the plate was put back above it \
+                             (see docs/methods.md: walls under tension)",
                             r.wall_reflections
                         );
                     }

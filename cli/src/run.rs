@@ -161,7 +161,11 @@ pub fn scene_record(cfg: &SceneConfig, eff: &SceneConfig) -> String {
 /// A one-line description of the sound speed a configuration runs with, for the CLI.
 pub fn sound_speed_text(cfg: &SceneConfig, eff: &SceneConfig) -> String {
     let c = eff.resolved_sound_speed();
-    if cfg.scene == viscosph::config::Scene::EllipticalDrop {
+    if cfg.scheme == viscosph::config::SchemeKind::Isph {
+        "incompressible (isph): no sound speed; the time step follows the flow speed and the \
+         polymer (and the viscosity with isph_viscous_step = explicit)"
+            .into()
+    } else if cfg.scene == viscosph::config::Scene::EllipticalDrop {
         format!("sound speed c = {c} m/s (the elliptical drop's own)")
     } else if cfg.sound_speed > 0.0 {
         format!("sound speed c = {c} m/s (set)")
