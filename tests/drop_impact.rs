@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{i, r, s, series};
+use common::{i, integrate_wall_force, r, s, series, series_bits};
 use viscosph::config::{SceneConfig, Value};
 use viscosph::simulation::{SimError, Simulation};
 use viscosph::Vec2;
@@ -134,16 +134,8 @@ fn momentum_balance_on_an_inclined_plate() {
     let p0 = sim.fluid_momentum();
     let mass = sim.fluid_mass();
     let plate = sim.state().plate().cloned().unwrap();
-    let mut prev = sim.outputs();
-    let (mut int_n, mut int_t) = (0.0, 0.0);
     let n = (6.0 * T_STAR / dt).round() as usize;
-    for k in 1..=n {
-        sim.advance_to(k as f64 * dt).unwrap();
-        let o = sim.outputs();
-        int_n += 0.5 * dt * (o.wall_force_normal + prev.wall_force_normal);
-        int_t += 0.5 * dt * (o.wall_force_tangential + prev.wall_force_tangential);
-        prev = o;
-    }
+    let (int_n, int_t) = integrate_wall_force(&mut sim, dt, n);
     // The particles are at the solver's own time (at or just past the communication time).
     let t = sim.state().time;
     // Impulse of the plate on the fluid: change of momentum minus the gravity impulse.
@@ -238,12 +230,7 @@ fn outputs_are_bitwise_identical_on_one_and_two_threads() {
         let (ser, err, sim) = series(&c, 2.5 * T_STAR, 0.25 * T_STAR);
         assert!(err.is_none());
         assert_eq!(sim.threads(), threads as usize);
-        let bits: Vec<u64> = ser
-            .iter()
-            .flat_map(|(t, o)| std::iter::once(*t).chain(o.values()))
-            .map(f64::to_bits)
-            .collect();
-        (bits, sim.state().clone())
+        (series_bits(&ser), sim.state().clone())
     };
     assert_eq!(run(1), run(2));
 }

@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{i, r, s};
+use common::{i, r, s, series_bits};
 use viscosph::config::{SceneConfig, Value};
 use viscosph::scene::jet::{buckling, Nozzle};
 use viscosph::simulation::Simulation;
@@ -150,12 +150,7 @@ fn outputs_are_bitwise_identical_on_one_and_two_threads() {
         let (ser, err) = sim.record(0.1, 0.01);
         assert!(err.is_none(), "{err:?}");
         assert!(sim.state().inflow.unwrap().rows > 0);
-        let bits: Vec<u64> = ser
-            .iter()
-            .flat_map(|(t, o)| std::iter::once(*t).chain(o.values()))
-            .map(f64::to_bits)
-            .collect();
-        (bits, sim.state().clone())
+        (series_bits(&ser), sim.state().clone())
     };
     assert_eq!(run(1), run(2));
 }

@@ -25,3 +25,27 @@ pub fn series(
     let (out, err) = sim.record(t_end, dt);
     (out, err, sim)
 }
+
+/// Every bit of a recorded series (times and outputs), for bitwise comparisons.
+pub fn series_bits(ser: &[(f64, Outputs)]) -> Vec<u64> {
+    ser.iter()
+        .flat_map(|(t, o)| std::iter::once(*t).chain(o.values()))
+        .map(f64::to_bits)
+        .collect()
+}
+
+/// Advance `sim` by `n` communication steps of `dt` and integrate the wall-force outputs over
+/// them by the trapezoidal rule: (normal, tangential) impulse [N s/m].
+pub fn integrate_wall_force(sim: &mut Simulation, dt: f64, n: usize) -> (f64, f64) {
+    let t0 = sim.time();
+    let mut prev = sim.outputs();
+    let (mut int_n, mut int_t) = (0.0, 0.0);
+    for k in 1..=n {
+        sim.advance_to(t0 + k as f64 * dt).unwrap();
+        let o = sim.outputs();
+        int_n += 0.5 * dt * (o.wall_force_normal + prev.wall_force_normal);
+        int_t += 0.5 * dt * (o.wall_force_tangential + prev.wall_force_tangential);
+        prev = o;
+    }
+    (int_n, int_t)
+}
