@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{i, integrate_wall_force, r, s, series, series_bits};
+use common::{assert_spreads_monotonically, i, integrate_wall_force, r, s, series, series_bits};
 use viscosph::config::{SceneConfig, Value};
 use viscosph::simulation::{SimError, Simulation};
 use viscosph::Vec2;
@@ -31,19 +31,7 @@ fn newtonian_drop_spreads_monotonically_without_fracture() {
     assert!(err.is_none(), "{err:?}");
     // Fang's walls hold the fluid by themselves here: the impenetrability condition never acts.
     assert_eq!(sim.state().wall_reflections, 0);
-    let impact = ser
-        .iter()
-        .position(|(_, o)| o.wall_force_normal > 0.0)
-        .unwrap();
-    for w in ser[impact..].windows(2) {
-        assert!(
-            w[1].1.drop_width >= w[0].1.drop_width,
-            "W* fell from {} to {} at t* = {}",
-            w[0].1.drop_width / D,
-            w[1].1.drop_width / D,
-            w[1].0 / T_STAR
-        );
-    }
+    assert_spreads_monotonically(&ser, D, T_STAR);
     let last = ser.last().unwrap().1;
     assert!(
         last.drop_width / D > 1.8,

@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{i, integrate_wall_force, r, s, series, series_bits};
+use common::{assert_spreads_monotonically, i, integrate_wall_force, r, s, series, series_bits};
 use viscosph::config::{SceneConfig, Value};
 use viscosph::simulation::Simulation;
 use viscosph::Vec2;
@@ -36,19 +36,7 @@ fn newtonian_drop_spreads_monotonically() {
     let c = cfg(&[("rheology", s("newtonian"))]);
     let (ser, err, _) = series(&c, 8.0 * T_STAR, 0.2 * T_STAR);
     assert!(err.is_none(), "{err:?}");
-    let impact = ser
-        .iter()
-        .position(|(_, o)| o.wall_force_normal > 0.0)
-        .unwrap();
-    for w in ser[impact..].windows(2) {
-        assert!(
-            w[1].1.drop_width >= w[0].1.drop_width,
-            "W* fell from {} to {} at t* = {}",
-            w[0].1.drop_width / W,
-            w[1].1.drop_width / W,
-            w[1].0 / T_STAR
-        );
-    }
+    assert_spreads_monotonically(&ser, W, T_STAR);
     let last = ser.last().unwrap().1;
     let w_end = last.drop_width / W;
     assert!((1.9..2.6).contains(&w_end), "W*(8) = {w_end}");

@@ -49,3 +49,21 @@ pub fn integrate_wall_force(sim: &mut Simulation, dt: f64, n: usize) -> (f64, f6
     }
     (int_n, int_t)
 }
+
+/// From the first output with a force on the plate on, the drop width never decreases; the
+/// message gives W / `scale` and t / `t_scale` where it does.
+pub fn assert_spreads_monotonically(ser: &[(f64, Outputs)], scale: f64, t_scale: f64) {
+    let impact = ser
+        .iter()
+        .position(|(_, o)| o.wall_force_normal > 0.0)
+        .expect("the drop reaches the plate");
+    for w in ser[impact..].windows(2) {
+        assert!(
+            w[1].1.drop_width >= w[0].1.drop_width,
+            "W* fell from {} to {} at t* = {}",
+            w[0].1.drop_width / scale,
+            w[1].1.drop_width / scale,
+            w[1].0 / t_scale
+        );
+    }
+}
