@@ -67,3 +67,24 @@ pub fn assert_spreads_monotonically(ser: &[(f64, Outputs)], scale: f64, t_scale:
         );
     }
 }
+
+/// The time integral of the wall-force outputs `(int_n, int_t)` equals the impulse of the fluid
+/// on `plate`, minus `j` (the impulse of the plate on the fluid), within `tol` relative, in the
+/// outputs' frame: normal into the plate (-n), tangential along t.
+pub fn assert_impulse_matches(
+    (int_n, int_t): (f64, f64),
+    j: viscosph::Vec2,
+    plate: &viscosph::boundary::plate::Plate,
+    tol: f64,
+) {
+    let (want_n, want_t) = (j.dot(&plate.n), -j.dot(&plate.t));
+    assert!(
+        want_n.abs() > 1e-3 && want_t.abs() > 1e-4,
+        "the plate took too little impulse to compare: {want_n} {want_t}"
+    );
+    let (en, et) = ((int_n - want_n) / want_n, (int_t - want_t) / want_t);
+    assert!(
+        en.abs() < tol && et.abs() < tol,
+        "normal {int_n} vs {want_n} ({en:+.4}), tangential {int_t} vs {want_t} ({et:+.4})"
+    );
+}
