@@ -947,26 +947,14 @@ fn bench_rheologies(out: &Path, quick: bool) -> Result<String, Box<dyn std::erro
             None => ("none (keeps spreading)".to_string(), "-".to_string()),
         };
         let last = res.series.last().expect("series").1;
-        let trace = res
-            .series
-            .iter()
-            .map(|(_, o)| o.max_conformation_trace)
-            .fold(0.0, f64::max);
         writeln!(
             md,
             "| {r} | {peak_w} | {peak_t} | {:.3} | {:.3} | {} | {:.2} | {} |",
             last.drop_width / d,
             last.drop_height / d,
-            if trace > 0.0 {
-                format!("{trace:.2}")
-            } else {
-                "-".into()
-            },
+            res.max_trace_text(),
             res.wall_seconds,
-            res.error
-                .as_ref()
-                .map(|e| e.to_string())
-                .unwrap_or("none".into())
+            res.error_text()
         )?;
         for (t, o) in &res.series {
             writeln!(

@@ -196,6 +196,28 @@ pub struct RunResult {
 }
 
 impl RunResult {
+    /// For benchmark tables: the largest trace of the conformation tensor over the recorded
+    /// outputs to two decimals, or "-" for a model without one.
+    pub fn max_trace_text(&self) -> String {
+        let trace = self
+            .series
+            .iter()
+            .map(|(_, o)| o.max_conformation_trace)
+            .fold(0.0, f64::max);
+        if trace > 0.0 {
+            format!("{trace:.2}")
+        } else {
+            "-".into()
+        }
+    }
+
+    /// For benchmark tables: the breakdown's message, or "none".
+    pub fn error_text(&self) -> String {
+        self.error
+            .as_ref()
+            .map_or_else(|| "none".into(), |e| e.to_string())
+    }
+
     /// Particle-steps per second of wall time.
     pub fn throughput(&self) -> f64 {
         self.particles as f64 * self.steps as f64 / self.wall_seconds.max(1e-12)

@@ -119,11 +119,6 @@ pub fn bench_jet(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::
         let res = run(&c, &opts)?;
         let b = buckling(&res.series, D);
         let opt = |x: Option<f64>| x.map_or("-".to_string(), |t| format!("{t:.3}"));
-        let trace = res
-            .series
-            .iter()
-            .map(|(_, o)| o.max_conformation_trace)
-            .fold(0.0, f64::max);
         writeln!(
             md,
             "| {label} | {} | {} | {} | {:.3} | {} | {} | {:.1} | {} |",
@@ -135,17 +130,10 @@ pub fn bench_jet(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::
                 "-".into()
             },
             b.amplitude / D,
-            if trace > 0.0 {
-                format!("{trace:.2}")
-            } else {
-                "-".into()
-            },
+            res.max_trace_text(),
             res.steps,
             res.wall_seconds,
-            res.error
-                .as_ref()
-                .map(|e| e.to_string())
-                .unwrap_or("none".into())
+            res.error_text()
         )?;
         for (t, o) in &res.series {
             writeln!(
