@@ -333,7 +333,11 @@ fn isph_holds_the_nozzle_at_the_inflow_velocity_on_its_lattice() {
     // Under ISPH the inlet particles keep the inflow velocity through the step (the scheme
     // holds them, the scene does not have to put them back) and move with it unshifted, so they
     // stay on the nozzle's columns; the momentum this takes is the inlet's.
-    let c = cfg(4, 4.0, &[("scheme", s("isph")), ("rheology", s("oldroyd_b"))]);
+    let c = cfg(
+        4,
+        4.0,
+        &[("scheme", s("isph")), ("rheology", s("oldroyd_b"))],
+    );
     let mut sim = Simulation::new(c).unwrap();
     let eff = sim.effective_config().clone();
     let nz = Nozzle::from_config(&eff);
@@ -381,7 +385,10 @@ fn a_jet_scene_file_gets_king_and_linds_case_under_isph() {
         (c.density, c.viscosity, c.viscosity_ratio, c.relaxation_time),
         (1023.0, 8.8, 0.2, 0.05)
     );
-    assert_eq!((c.jet_width, c.jet_velocity, c.nozzle_height), (D, U0, 0.072));
+    assert_eq!(
+        (c.jet_width, c.jet_velocity, c.nozzle_height),
+        (D, U0, 0.072)
+    );
     // Wi = lambda U0 / D = 5/3, Re = rho U0 D / eta0 = 0.14.
     assert!((c.relaxation_time * U0 / D - 5.0 / 3.0).abs() < 1e-12);
     assert!((RHO * U0 * D / c.viscosity - 0.1395).abs() < 1e-3);
@@ -389,7 +396,10 @@ fn a_jet_scene_file_gets_king_and_linds_case_under_isph() {
     // A key the file gives wins over the scene's default, whatever the order.
     let c = SceneConfig::from_toml_str("viscosity = 2.0\nscene = \"jet\"\nscheme = \"wcsph\"\n")
         .unwrap();
-    assert_eq!((c.viscosity, c.scheme, c.density), (2.0, SchemeKind::Wcsph, 1023.0));
+    assert_eq!(
+        (c.viscosity, c.scheme, c.density),
+        (2.0, SchemeKind::Wcsph, 1023.0)
+    );
     // Other scenes keep the table's defaults (the FMU's start values).
     assert_eq!(SceneConfig::for_scene(Scene::Drop), SceneConfig::default());
     let d = SceneConfig::from_toml_str("scene = \"drop\"\n").unwrap();

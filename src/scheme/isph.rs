@@ -540,7 +540,13 @@ impl<R: Rheology> Scheme for Isph<R> {
         let b: Vec<f64> = kappa_star
             .iter()
             .enumerate()
-            .map(|(i, k)| if is_held(i) { 0.0 } else { rho / dt * k.trace() })
+            .map(|(i, k)| {
+                if is_held(i) {
+                    0.0
+                } else {
+                    rho / dt * k.trace()
+                }
+            })
             .collect();
         // Inlet particles within reach of free fluid: Neumann (module documentation).
         let neumann = |i: usize| {
