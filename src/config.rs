@@ -849,8 +849,10 @@ impl SceneConfig {
     /// units, and of the FMU's start values (one per variable, so an FMU that is told only
     /// `scene = jet` runs the table's values); scene files start from these.
     pub fn for_scene(scene: Scene) -> Self {
-        let mut c = SceneConfig::default();
-        c.scene = scene;
+        let mut c = SceneConfig {
+            scene,
+            ..Default::default()
+        };
         let own = match scene {
             Scene::Jet => crate::scene::jet::DEFAULTS,
             _ => "",
