@@ -69,8 +69,9 @@ pub fn buffer_rows(cfg: &SceneConfig) -> i64 {
 /// (which are Fang's drop): King & Lind 2021 section IV.D's Oldroyd-B jet, D = 6 mm,
 /// U0 = 0.2 m/s, nozzle 12 D above the plate, eta0 = 8.8 Pa s, rho = 1023 kg/m3 (Re = 0.14),
 /// beta = 0.2, lambda = 0.05 s (Wi = lambda U0 / D = 5/3), under ISPH, their scheme, at
-/// 8 particles across (King & Lind: 20), about a minute to t* = 8 (0.97 s) on one free core. Written as a scene file and read through the table
-/// ([`SceneConfig::for_scene`]), so every value is checked against its row's range.
+/// 8 particles across (King & Lind: 20), about a minute to t* = 8 (0.97 s) on one free core.
+/// Written as a scene file and read through the table ([`SceneConfig::for_scene`]), so every
+/// value is checked against its row's range.
 pub const DEFAULTS: &str = "\
 scheme = \"isph\"
 rheology = \"oldroyd_b\"
