@@ -843,9 +843,30 @@ impl SceneConfig {
         fluid + wall
     }
 
+    /// The defaults of a scene: the table's ([`PARAMS`], Fang's drop) with the scene's own
+    /// values over them, for the scenes that have some (the jet: King & Lind's case,
+    /// [`crate::scene::jet::DEFAULTS`]). The table stays the one source of names, ranges and
+    /// units, and of the FMU's start values (one per variable, so an FMU that is told only
+    /// `scene = jet` runs the table's values); scene files start from these.
+    pub fn for_scene(scene: Scene) -> Self {
+        let mut c = SceneConfig {
+            scene,
+            ..Default::default()
+        };
+        let own = match scene {
+            Scene::Jet => crate::scene::jet::DEFAULTS,
+            _ => "",
+        };
+        let table: toml::Table = own.parse().expect("a scene's defaults are TOML");
+        c.apply_table(table)
+            .expect("a scene's defaults are within the table's ranges");
+        c
+    }
+
     /// Read a flat TOML scene file whose keys are the FMU parameter names. Missing keys keep
-    /// their defaults; an unknown key or a bad value is an error naming it, and so is a file that
-    /// gives both `initial_drop_height` and its older name `drop_height`.
+    /// their defaults, those of the scene it names ([`SceneConfig::for_scene`]); an unknown key
+    /// or a bad value is an error naming it, and so is a file that gives both
+    /// `initial_drop_height` and its older name `drop_height`.
     pub fn from_toml_str(text: &str) -> Result<Self, ConfigError> {
         let table: toml::Table = text
             .parse()
@@ -858,6 +879,19 @@ impl SceneConfig {
             )));
         }
         let mut cfg = SceneConfig::default();
+        if let Some(scene) = table.get("scene").and_then(|v| v.as_str()) {
+            // A scene that is not one is reported by `set` below.
+            if let Some(scene) = Scene::parse(scene) {
+                cfg = SceneConfig::for_scene(scene);
+            }
+        }
+        cfg.apply_table(table)?;
+        cfg.validate()?;
+        Ok(cfg)
+    }
+
+    /// Set every key of a flat TOML table.
+    fn apply_table(&mut self, table: toml::Table) -> Result<(), ConfigError> {
         for (key, val) in table {
             let v = match val {
                 toml::Value::Float(x) => Value::Real(x),
@@ -870,10 +904,9 @@ impl SceneConfig {
                     })
                 }
             };
-            cfg.set(&key, v)?;
+            self.set(&key, v)?;
         }
-        cfg.validate()?;
-        Ok(cfg)
+        Ok(())
     }
 
     /// The scene as a flat TOML file (every parameter, enumerations by name).

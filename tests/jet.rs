@@ -55,7 +55,13 @@ fn run_stepwise(sim: &mut Simulation, t_end: f64, mut each: impl FnMut(&Simulati
 
 #[test]
 fn mass_enters_at_rho_u0_d_and_nothing_is_lost() {
-    let c = cfg(6, 4.0, &[]);
+    for scheme in ["wcsph", "isph"] {
+        mass_enters_at_rho_u0_d(scheme);
+    }
+}
+
+fn mass_enters_at_rho_u0_d(scheme: &str) {
+    let c = cfg(6, 4.0, &[("scheme", s(scheme))]);
     let mut sim = Simulation::new(c.clone()).unwrap();
     let eff = sim.effective_config().clone();
     let dx = eff.dx();
@@ -89,7 +95,7 @@ fn mass_enters_at_rho_u0_d_and_nothing_is_lost() {
         assert!(st.fluid.x.iter().all(|x| x.iter().all(|v| v.is_finite())));
         checked += 1;
     });
-    assert!(checked > 1000, "{checked} steps");
+    assert!(checked > 100, "{scheme}: {checked} steps");
     // The fluid has left the nozzle and reached the plate by then.
     let st = sim.state();
     let outside = st.fluid.x.iter().filter(|x| !nz.contains(x)).count();
@@ -97,39 +103,49 @@ fn mass_enters_at_rho_u0_d_and_nothing_is_lost() {
     let o = sim.outputs();
     assert!(o.drop_width > 1.5 * D, "heap {} m wide", o.drop_width);
     assert!(o.wall_force_normal > 0.0);
-    println!("largest distance from rho U0 D t: {worst:.3} rows");
+    println!("{scheme}: largest distance from rho U0 D t: {worst:.3} rows, {checked} steps");
 }
 
 #[test]
 fn wall_impulse_balances_inflow_gravity_and_momentum_held() {
-    let c = cfg(6, 4.0, &[]);
+    for scheme in ["wcsph", "pdri", "isph"] {
+        wall_impulse_balances(scheme);
+    }
+}
+
+fn wall_impulse_balances(scheme: &str) {
+    let c = cfg(6, 4.0, &[("scheme", s(scheme))]);
     let mut sim = Simulation::new(c).unwrap();
     let p0 = sim.fluid_momentum();
     let g = sim.effective_config().gravity;
     let mass_time = run_stepwise(&mut sim, 0.2, |_| {});
     let st = sim.state();
     let inflow = st.inflow.unwrap();
-    // d P / dt = M g + F_wall->fluid + inflow: the wall impulse (fluid on wall) is the momentum
-    // brought in plus the gravity impulse minus the momentum held now.
-    let entered = p0 + inflow.momentum;
+    // d P / dt = M g + F_wall->fluid + inflow (+ ISPH's ALE remapping, zero for the others):
+    // the wall impulse (fluid on wall) is the momentum brought in plus the gravity impulse
+    // minus the momentum held now.
+    let entered = p0 + inflow.momentum + st.remap_impulse;
     let expected = entered + Vec2::new(0.0, -g * mass_time) - sim.fluid_momentum();
     let w = st.wall_impulse;
     assert!(w.y < 0.0, "the fluid pushes the plate down: {w:?}");
     let err = (w - expected).norm() / w.norm();
     assert!(
         err < 0.03,
-        "wall impulse {w:?} against {expected:?} ({err:.2e})"
+        "{scheme}: wall impulse {w:?} against {expected:?} ({err:.2e})"
     );
-    // The inflow is more than the momentum of the mass that entered at U0: the nozzle also
-    // holds its particles against gravity and against the pull of the falling jet below.
+    // Under WCSPH the inflow is more than the momentum of the mass that entered at U0: the
+    // nozzle also holds its particles against gravity and against the pull of the falling jet
+    // below. (Under PDRI it is less, measured 11 %: there the jet below pushes up on the
+    // nozzle's particles more than gravity and the pull take; the balance above is what holds
+    // for every scheme.)
     let nominal = -U0 * sim.state().fluid.mass * inflow.particles as f64;
     assert!(
-        inflow.momentum.y < nominal,
-        "{} vs {nominal}",
+        scheme != "wcsph" || inflow.momentum.y < nominal,
+        "{scheme}: {} vs {nominal}",
         inflow.momentum.y
     );
     println!(
-        "wall impulse {:.6e} N s/m, balance error {err:.2e}; inflow {:.4e} = {:.4e} (mass x U0) \
+        "{scheme}: wall impulse {:.6e} N s/m, balance error {err:.2e}; inflow {:.4e} = {:.4e} (mass x U0) \
          + {:.4e} (nozzle)",
         w.y,
         inflow.momentum.y,
@@ -140,11 +156,21 @@ fn wall_impulse_balances_inflow_gravity_and_momentum_held() {
 
 #[test]
 fn outputs_are_bitwise_identical_on_one_and_two_threads() {
+    for scheme in ["wcsph", "isph"] {
+        bitwise_on_one_and_two_threads(scheme);
+    }
+}
+
+fn bitwise_on_one_and_two_threads(scheme: &str) {
     let run = |threads: i64| {
         let c = cfg(
             4,
             4.0,
-            &[("threads", i(threads)), ("rheology", s("oldroyd_b"))],
+            &[
+                ("threads", i(threads)),
+                ("rheology", s("oldroyd_b")),
+                ("scheme", s(scheme)),
+            ],
         );
         let mut sim = Simulation::new(c).unwrap();
         let (ser, err) = sim.record(0.1, 0.01);
@@ -152,12 +178,12 @@ fn outputs_are_bitwise_identical_on_one_and_two_threads() {
         assert!(sim.state().inflow.unwrap().rows > 0);
         (series_bits(&ser), sim.state().clone())
     };
-    assert_eq!(run(1), run(2));
+    assert!(run(1) == run(2), "{scheme}");
 }
 
 #[test]
 fn save_and_restore_while_particles_enter_continue_identically() {
-    for scheme in ["wcsph", "pdri"] {
+    for scheme in ["wcsph", "pdri", "isph"] {
         let c = cfg(
             4,
             4.0,
@@ -299,5 +325,98 @@ fn container_walls_hold_the_heap() {
         "{} vs {}",
         o_held.drop_height,
         o.drop_height
+    );
+}
+
+#[test]
+fn isph_holds_the_nozzle_at_the_inflow_velocity_on_its_lattice() {
+    // Under ISPH the inlet particles keep the inflow velocity through the step (the scheme
+    // holds them, the scene does not have to put them back) and move with it unshifted, so they
+    // stay on the nozzle's columns; the momentum this takes is the inlet's.
+    let c = cfg(
+        4,
+        4.0,
+        &[("scheme", s("isph")), ("rheology", s("oldroyd_b"))],
+    );
+    let mut sim = Simulation::new(c).unwrap();
+    let eff = sim.effective_config().clone();
+    let nz = Nozzle::from_config(&eff);
+    assert_eq!(nz.rows, 6, "ISPH's quintic support 3.9 dx, plus two rows");
+    let mut held_seen = 0;
+    run_stepwise(&mut sim, 0.08, |sim| {
+        let st = sim.state();
+        for (x, v) in st.fluid.x.iter().zip(&st.fluid.v) {
+            if nz.contains(x) {
+                held_seen += 1;
+                // (0, -U0), plus the seed's sideways SEED U0 while the first D leaves.
+                let seed = viscosph::scene::jet::SEED * U0;
+                assert!(
+                    v.y == -U0 && (v.x == 0.0 || v.x == seed),
+                    "t = {}: nozzle particle at {x:?} moves at {v:?}",
+                    st.time
+                );
+                let col = ((x.x + nz.half_width) / nz.dx - 0.5).round();
+                // The seed's sideways 1e-3 U0 over the first D / U0 (and the step that
+                // straddles it, under 0.1 D / U0) moves columns by at most 1.1e-3 D; shifting
+                // would move them by up to 0.1 h a step.
+                assert!(
+                    (x.x - nz.column_x(col as i64)).abs() < 1.1e-3 * D,
+                    "t = {}: nozzle particle off its column: {x:?}",
+                    st.time
+                );
+            }
+        }
+    });
+    assert!(held_seen > 1000);
+    // The free jet has left the nozzle and its particles are not held.
+    let st = sim.state();
+    // 0.08 s at U0 is 10.7 rows of 4 beyond the 6 rows of the initial nozzle.
+    assert!(st.fluid.x.iter().filter(|x| !nz.contains(x)).count() >= 4 * 8);
+    assert!(st.pressure.iter().all(|p| p.is_finite()));
+}
+
+#[test]
+fn a_jet_scene_file_gets_king_and_linds_case_under_isph() {
+    use viscosph::config::{RheologyKind, Scene, SchemeKind};
+    let c = SceneConfig::from_toml_str("scene = \"jet\"\n").unwrap();
+    assert_eq!(c.scheme, SchemeKind::Isph);
+    assert_eq!(c.rheology, RheologyKind::OldroydB);
+    assert_eq!(
+        (c.density, c.viscosity, c.viscosity_ratio, c.relaxation_time),
+        (1023.0, 8.8, 0.2, 0.05)
+    );
+    assert_eq!(
+        (c.jet_width, c.jet_velocity, c.nozzle_height),
+        (D, U0, 0.072)
+    );
+    // Wi = lambda U0 / D = 5/3, Re = rho U0 D / eta0 = 0.14.
+    assert!((c.relaxation_time * U0 / D - 5.0 / 3.0).abs() < 1e-12);
+    assert!((RHO * U0 * D / c.viscosity - 0.1395).abs() < 1e-3);
+    assert_eq!(c, SceneConfig::for_scene(Scene::Jet));
+    // A key the file gives wins over the scene's default, whatever the order.
+    let c = SceneConfig::from_toml_str("viscosity = 2.0\nscene = \"jet\"\nscheme = \"wcsph\"\n")
+        .unwrap();
+    assert_eq!(
+        (c.viscosity, c.scheme, c.density),
+        (2.0, SchemeKind::Wcsph, 1023.0)
+    );
+    // Other scenes keep the table's defaults (the FMU's start values).
+    assert_eq!(SceneConfig::for_scene(Scene::Drop), SceneConfig::default());
+    let d = SceneConfig::from_toml_str("scene = \"drop\"\n").unwrap();
+    assert_eq!(d, SceneConfig::default());
+    // The example scene file is King & Lind's case too (at its own resolution).
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/examples/scenes/king_lind_jet.toml"
+    ))
+    .unwrap();
+    let e = SceneConfig::from_toml_str(&text).unwrap();
+    let jet = SceneConfig::for_scene(Scene::Jet);
+    assert_eq!(
+        SceneConfig {
+            particles_per_diameter: jet.particles_per_diameter,
+            ..e
+        },
+        jet
     );
 }

@@ -65,6 +65,18 @@
 //!   every particle, and ran with L = I on the free-surface set (as the positive form of (20)
 //!   has it).
 //! * A pressure or viscous solve that does not converge stops the run with the solver's cause.
+//! * **Inlet** (the jet's nozzle, [`crate::state::Inflow::holds`]): a buffer of particles held at
+//!   the inflow velocity, in the spirit of the moving ghost particles King & Lind cite for their
+//!   jet. A held particle moves with its prescribed velocity (no shifting) and keeps it through
+//!   the step: the momentum the forces of the step would have given it is taken by the inlet
+//!   (`Inflow::momentum`), so the momentum balance stays exact. Velocity prescribed means a
+//!   Neumann condition on the pressure: held particles are unknowns of the PPE with
+//!   `lap p = 0` (the prescribed flow is divergence-free) and, where free fluid is within
+//!   their kernel support, never Dirichlet, so the free fluid at the exit sees the pressure
+//!   continued into the nozzle (the truncated Laplacian at the nozzle's sides and top is a
+//!   zero normal gradient) instead of a free surface. Held particles out of reach of free fluid
+//!   keep the free-surface p = 0 of their edges: that fixes the pressure level when the nozzle
+//!   holds all the fluid (t = 0, or a closed valve after the jet has left).
 
 use super::params::Params;
 use super::ppe::{self, GhostLink, SolverOptions};
@@ -277,6 +289,15 @@ impl<R: Rheology> Scheme for Isph<R> {
             return Err(format!("time step collapsed to {dt:e} s"));
         }
         let lagrangian = self.frame == IsphFrame::Lagrangian;
+        // Inlet particles (module documentation): velocity prescribed (the scene has just put
+        // it back), empty without an inlet.
+        let held: Vec<bool> = match &st.inflow {
+            Some(inl) => fl.x.iter().map(|x| inl.holds(x)).collect(),
+            None => Vec::new(),
+        };
+        let is_held = |i: usize| held.get(i).copied().unwrap_or(false);
+        // Momentum the inlet takes from its particles to hold them at the inflow velocity.
+        let mut held_momentum = Vec2::zeros();
 
         // Step 1, eq. (23).
         let xs: Vec<Vec2> = if lagrangian {
@@ -362,6 +383,12 @@ impl<R: Rheology> Scheme for Isph<R> {
         } else {
             fl.v.iter().map(|v| -v).collect()
         };
+        // Held particles move with the inflow, not shifted.
+        let u_ps: Vec<Vec2> = u_ps
+            .into_iter()
+            .enumerate()
+            .map(|(i, u)| if is_held(i) { Vec2::zeros() } else { u })
+            .collect();
 
         // Step 3: the conformation tensor to n + 1/2 (section III.B).
         let kappa = velocity_gradients(n, &u_n, vol, &nl, &pairs, &l);
@@ -500,15 +527,43 @@ impl<R: Rheology> Scheme for Isph<R> {
             self.timings.viscous_solve += t0.elapsed().as_secs_f64();
             u
         };
+        let mut u_star = u_star;
+        for i in (0..n).filter(|&i| is_held(i)) {
+            held_momentum += (fl.v[i] - u_star[i]) * mass;
+            u_star[i] = fl.v[i];
+        }
 
         // Step 5: the PPE (25) with the free-surface pressure of (35a).
         let t0 = Instant::now();
         let us_all = extend_u(&u_star);
         let kappa_star = velocity_gradients(n, &us_all, vol, &nl, &pairs, &l);
-        let b: Vec<f64> = kappa_star.iter().map(|k| rho / dt * k.trace()).collect();
+        let b: Vec<f64> = kappa_star
+            .iter()
+            .enumerate()
+            .map(|(i, k)| {
+                if is_held(i) {
+                    0.0
+                } else {
+                    rho / dt * k.trace()
+                }
+            })
+            .collect();
+        // Inlet particles within reach of free fluid: Neumann (module documentation).
+        let neumann = |i: usize| {
+            is_held(i)
+                && nl
+                    .of(i)
+                    .iter()
+                    .any(|&j| (j as usize) < n && !is_held(j as usize))
+        };
         // Free-surface particles: Dirichlet p = 0 (module documentation: why not (35a)).
         let dirichlet: Vec<Option<f64>> = match &surf {
-            Some(s) => s.is_surface.iter().map(|&fs| fs.then_some(0.0)).collect(),
+            Some(s) => s
+                .is_surface
+                .iter()
+                .enumerate()
+                .map(|(i, &fs)| (fs && !neumann(i)).then_some(0.0))
+                .collect(),
             None => Vec::new(),
         };
         let offsets: Vec<f64> = parent
@@ -524,6 +579,11 @@ impl<R: Rheology> Scheme for Isph<R> {
         let sys = ppe::assemble_poisson(n, &nl, &pairs.morris, &ghosts, &dirichlet, &b);
         let mut pres = if st.pressure.len() == n {
             st.pressure.clone()
+        } else if st.inflow.is_some() && st.pressure.len() < n {
+            // Particles entered at the end of the list: the others keep their warm start.
+            let mut p = st.pressure.clone();
+            p.resize(n, 0.0);
+            p
         } else {
             vec![0.0; n]
         };
@@ -565,6 +625,10 @@ impl<R: Rheology> Scheme for Isph<R> {
         for (i, (a, aw)) in proj.iter().enumerate() {
             wall_on_fluid += aw * mass;
             u_new.push(u_star[i] + (a + g) * dt);
+            if is_held(i) {
+                held_momentum += (fl.v[i] - u_new[i]) * mass;
+                u_new[i] = fl.v[i];
+            }
         }
 
         // Step 7: advection (27).
@@ -573,6 +637,9 @@ impl<R: Rheology> Scheme for Isph<R> {
             for i in 0..n {
                 fl.x[i] = dom.wrap(fl.x[i] + (fl.v[i] + u_new[i] + 2.0 * u_ps[i]) * (0.5 * dt));
             }
+        }
+        if let Some(inl) = st.inflow.as_mut() {
+            inl.momentum += held_momentum;
         }
         fl.v = u_new;
         if R::ELASTIC {

@@ -1,7 +1,7 @@
 """The jet scene through the FMU (issue 13): `jet_velocity` is an input a pump or valve model
 drives; the inlet follows a step change of it, and the mass that enters is rho U0 D exactly to
-within one particle row. The jet's physics (momentum balance, buckling) is tested in
-tests/jet.rs on the library."""
+within one particle row, under every scheme family (weakly compressible and incompressible).
+The jet's physics (momentum balance, buckling) is tested in tests/jet.rs on the library."""
 
 import pytest
 
@@ -18,10 +18,12 @@ def test_jet_velocity_is_a_continuous_input_with_a_start_value(md):
     assert float(v.start) == 0.2
 
 
-def test_the_inlet_follows_steps_of_jet_velocity(unzipdir):
+@pytest.mark.parametrize("scheme", ["wcsph", "isph"])
+def test_the_inlet_follows_steps_of_jet_velocity(unzipdir, scheme):
     s = Slave(unzipdir)
     s.fmu.setupExperiment(startTime=0.0)
     s.fmu.setString([s.vr["scene_name"]], ["jet"])
+    s.fmu.setString([s.vr["scheme_name"]], [scheme])
     s.fmu.setString([s.vr["rheology_name"]], ["newtonian"])
     s.fmu.setReal([s.vr[k] for k in ["density", "viscosity", "jet_width", "nozzle_height"]],
                   [RHO, 8.8, D, 4 * D])
@@ -46,7 +48,10 @@ def test_the_inlet_follows_steps_of_jet_velocity(unzipdir):
         s.step_to(t_end, 0.005)
         expected += RHO * u * D * (t_end - t0)
         # Within one row of rho U0 D t (plus what entered during the last internal step).
-        assert injected() == pytest.approx(expected, abs=1.05 * ROW), (t_end, injected(), expected)
+        # Rows are emitted before a step, so the count lags by what entered during the last
+        # one: U0 dt / dx, 0.05 rows under WCSPH; ISPH's steps are up to 0.2 h / U0, 0.35 rows.
+        lag = 1.05 if scheme == "wcsph" else 1.4
+        assert injected() == pytest.approx(expected, abs=lag * ROW), (t_end, injected(), expected)
         # Nothing lost: the particle count is the initial nozzle plus what entered.
         assert count() == pytest.approx(n0 + injected() / (RHO * DX * DX), abs=1e-6)
     # The valve is closed: nothing more enters.

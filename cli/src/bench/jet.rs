@@ -3,33 +3,35 @@
 //! Oldroyd-B at Wi = lambda U0 / D = 1/3, 5/3, 10/3, 20/3; FENE-P and FENE-CR with L^2 = 10 and
 //! 100 and Giesekus with alpha = 0, 0.1, 0.2 at Wi = 10/3; and the Newtonian jet from nozzle
 //! heights of 2 to 12 D, for the planar buckling criterion (H/D above about pi at low Re, as
-//! quoted from Cruickshank & Munson 1981). Each run is tabulated by the time the jet reaches the
-//! plate and its buckling onset, frequency and amplitude
-//! ([`viscosph::scene::jet::buckling`]).
+//! quoted from Cruickshank & Munson 1981), the 2 D jet also for a long run. Every case runs
+//! under ISPH (the jet's default scheme, [`viscosph::scene::jet::DEFAULTS`]); the cases that
+//! carry King & Lind's trends (the Wi sweep, FENE-P against FENE-CR at L^2 = 10) also under
+//! WCSPH, side by side. Each run is tabulated by the time the jet reaches the plate and its
+//! buckling onset, frequency and amplitude ([`viscosph::scene::jet::buckling`]).
 
-use super::case;
 use crate::run::{run, RunOptions};
 use std::fmt::Write as _;
 use std::path::Path;
-use viscosph::config::{SceneConfig, Value};
+use viscosph::config::{Scene, SceneConfig, Value};
 use viscosph::scene::jet::buckling;
 
 const D: f64 = 0.006;
 const U0: f64 = 0.2;
 
-/// King & Lind's jet with `model` settings and the nozzle `h_over_d` widths above the plate.
-fn jet(h_over_d: f64, model: &[(&str, Value)]) -> SceneConfig {
+/// King & Lind's jet (the scene's defaults) under `scheme` with `model` settings and the
+/// nozzle `h_over_d` widths above the plate.
+fn jet(scheme: &str, h_over_d: f64, model: &[(&str, Value)]) -> SceneConfig {
+    let mut c = SceneConfig::for_scene(Scene::Jet);
     let mut pairs: Vec<(&str, Value)> = vec![
-        ("scene", Value::Text("jet".into())),
-        ("density", Value::Real(1023.0)),
-        ("viscosity", Value::Real(8.8)),
-        ("viscosity_ratio", Value::Real(0.2)),
-        ("jet_width", Value::Real(D)),
-        ("jet_velocity", Value::Real(U0)),
+        ("scheme", Value::Text(scheme.into())),
         ("nozzle_height", Value::Real(h_over_d * D)),
     ];
     pairs.extend(model.iter().cloned());
-    case(&pairs)
+    for (k, v) in pairs {
+        c.set(k, v)
+            .unwrap_or_else(|e| panic!("benchmark case: {e}"));
+    }
+    c
 }
 
 /// lambda for a Weissenberg number Wi = lambda U0 / D.
@@ -41,51 +43,61 @@ fn text(s: &str) -> Value {
     Value::Text(s.into())
 }
 
-/// The cases: (label, configuration).
-pub fn cases() -> Vec<(String, SceneConfig)> {
-    let mut v = Vec::new();
-    for h in [2.0, 3.0, 4.0, 6.0, 12.0] {
-        v.push((
-            format!("Newtonian, H = {h} D"),
-            jet(h, &[("rheology", text("newtonian"))]),
-        ));
-    }
-    for (wi, name) in [
-        (1.0 / 3.0, "1/3"),
-        (5.0 / 3.0, "5/3"),
-        (10.0 / 3.0, "10/3"),
-        (20.0 / 3.0, "20/3"),
-    ] {
-        v.push((
-            format!("Oldroyd-B, Wi = {name}"),
-            jet(
-                12.0,
-                &[
-                    ("rheology", text("oldroyd_b")),
-                    ("relaxation_time", lambda(wi)),
-                ],
-            ),
-        ));
-    }
-    for model in ["fene_p", "fene_cr"] {
-        for l2 in [10.0, 100.0] {
+/// One case: label, configuration and its end time (None: the sweep's).
+pub type Case = (String, SceneConfig, Option<f64>);
+
+/// The cases.
+pub fn cases() -> Vec<Case> {
+    // King & Lind's trends first, the fall-height sweep last.
+    let mut v: Vec<Case> = Vec::new();
+    for scheme in ["isph", "wcsph"] {
+        for (wi, name) in [
+            (1.0 / 3.0, "1/3"),
+            (5.0 / 3.0, "5/3"),
+            (10.0 / 3.0, "10/3"),
+            (20.0 / 3.0, "20/3"),
+        ] {
             v.push((
-                format!("{model}, L^2 = {l2}, Wi = 10/3"),
+                format!("{scheme}, Oldroyd-B, Wi = {name}"),
                 jet(
+                    scheme,
                     12.0,
                     &[
-                        ("rheology", text(model)),
-                        ("relaxation_time", lambda(10.0 / 3.0)),
-                        ("fene_L2", Value::Real(l2)),
+                        ("rheology", text("oldroyd_b")),
+                        ("relaxation_time", lambda(wi)),
                     ],
                 ),
+                None,
             ));
+        }
+        for model in ["fene_p", "fene_cr"] {
+            let l2s: &[f64] = if scheme == "isph" {
+                &[10.0, 100.0]
+            } else {
+                &[10.0]
+            };
+            for &l2 in l2s {
+                v.push((
+                    format!("{scheme}, {model}, L^2 = {l2}, Wi = 10/3"),
+                    jet(
+                        scheme,
+                        12.0,
+                        &[
+                            ("rheology", text(model)),
+                            ("relaxation_time", lambda(10.0 / 3.0)),
+                            ("fene_L2", Value::Real(l2)),
+                        ],
+                    ),
+                    None,
+                ));
+            }
         }
     }
     for alpha in [0.0, 0.1, 0.2] {
         v.push((
-            format!("Giesekus, alpha = {alpha}, Wi = 10/3"),
+            format!("isph, Giesekus, alpha = {alpha}, Wi = 10/3"),
             jet(
+                "isph",
                 12.0,
                 &[
                     ("rheology", text("giesekus")),
@@ -93,35 +105,71 @@ pub fn cases() -> Vec<(String, SceneConfig)> {
                     ("giesekus_alpha", Value::Real(alpha)),
                 ],
             ),
+            None,
         ));
     }
+    for h in [2.0, 3.0, 4.0, 6.0, 12.0] {
+        v.push((
+            format!("isph, Newtonian, H = {h} D"),
+            jet("isph", h, &[("rheology", text("newtonian"))]),
+            None,
+        ));
+    }
+    // The 2 D jet long enough for a buckle to show if there is one: 2 s, about 30 periods of
+    // the 12 D jet's folding.
+    v.push((
+        "isph, Newtonian, H = 2 D, to 2 s".into(),
+        jet("isph", 2.0, &[("rheology", text("newtonian"))]),
+        Some(2.0),
+    ));
     v
+}
+
+/// Wall force [N/m] above which the plate counts as feeling the jet: ISPH's implicit viscous
+/// solve leaves a residual force of 1e-9 to 1e-7 N/m before any fluid is near; the first
+/// contact of the jet's head is above 1 N/m (the weight of the first D of fluid is 0.36 N/m).
+pub const CONTACT_FORCE: f64 = 1e-3;
+
+/// When the plate first felt the jet (the first output with a wall force above
+/// [`CONTACT_FORCE`], i.e. the leading edge within the kernel support of the plate): the
+/// arrival King & Lind's "reaches the plate earlier" compares, sharper than
+/// [`viscosph::scene::jet::Buckling::impact`] (the first output with a heap, which waits for
+/// fluid to slow down on the plate). None if never.
+pub fn contact(series: &[(f64, viscosph::diagnostics::Outputs)]) -> Option<f64> {
+    series
+        .iter()
+        .find(|(_, o)| o.wall_force_normal.abs() > CONTACT_FORCE)
+        .map(|(t, _)| *t)
 }
 
 /// Run every case (`quick`: 4 particles across to 0.4 s, else 6 across to 0.7 s, King & Lind's
 /// last figure time) and tabulate it.
 pub fn bench_jet(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::Error>> {
     let (ppd, t_end) = if quick { (4, 0.4) } else { (6, 0.7) };
+    let dt_out = 0.001;
     let mut md = format!(
-        "King & Lind's jet, {ppd} particles across, to t = {t_end} s, outputs every 5 ms \
-         (buckling onset: |jet_deflection| > 0.1 D; amplitude: half the range of jet_deflection \
+        "King & Lind's jet, {ppd} particles across, to t = {t_end} s unless stated, outputs every \
+         {} ms (contact: first output with a wall force; impact: first output with a heap; \
+         buckling onset: |jet_deflection| > 0.1 D; amplitude: half the range of jet_deflection \
          over the second half of the record after impact).\n\n\
-         | case | impact [s] | onset [s] | frequency [Hz] | amplitude / D | max tr(A) | steps | wall time [s] | breakdown |\n\
-         |---|---|---|---|---|---|---|---|---|\n"
+         | case | contact [s] | impact [s] | onset [s] | frequency [Hz] | amplitude / D | max tr(A) | steps | wall time [s] | breakdown |\n\
+         |---|---|---|---|---|---|---|---|---|---|\n",
+        dt_out * 1e3
     );
     let mut csv = String::from("case,time,jet_deflection,drop_width,drop_height,injected_mass\n");
-    for (label, mut c) in cases() {
+    for (label, mut c, end) in cases() {
         c.particles_per_diameter = ppd;
         let mut opts = RunOptions::for_scene(&c);
-        opts.t_end = t_end;
-        opts.output_interval = 0.005;
+        opts.t_end = if quick { t_end } else { end.unwrap_or(t_end) };
+        opts.output_interval = dt_out;
         eprintln!("bench jet: {label} ...");
         let res = run(&c, &opts)?;
         let b = buckling(&res.series, D);
         let opt = |x: Option<f64>| x.map_or("-".to_string(), |t| format!("{t:.3}"));
         writeln!(
             md,
-            "| {label} | {} | {} | {} | {:.3} | {} | {} | {:.1} | {} |",
+            "| {label} | {} | {} | {} | {} | {:.3} | {} | {} | {:.1} | {} |",
+            opt(contact(&res.series)),
             opt(b.impact),
             opt(b.onset),
             if b.frequency > 0.0 {
