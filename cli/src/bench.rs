@@ -262,9 +262,81 @@ fn bench_isph(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::Err
         }
         std::fs::write(out.join("isph_convergence.csv"), series)?;
     }
+    cross_scheme(out, quick, t_star_end, &mut md)?;
     std::fs::write(out.join("isph.csv"), csv)?;
     std::fs::write(out.join("isph.md"), &md)?;
     Ok(md)
+}
+
+/// Cross-scheme agreement on the Newtonian Re = 4 drop (issue 11): isph, wcsph and pdri at one
+/// resolution, and the weakly compressible schemes without artificial viscosity (Monaghan's
+/// alpha = 1 at c = 12.6 m/s adds a viscosity comparable to the fluid's at this resolution):
+/// W*(end) and the largest |Delta W*| over the run for every pair, into `md` and
+/// `isph_cross_scheme.csv`.
+fn cross_scheme(
+    out: &Path,
+    quick: bool,
+    t_star_end: f64,
+    md: &mut String,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let ppd = if quick { 12 } else { 80 };
+    let variants: [(&str, &str, f64); 5] = [
+        ("isph", "isph", 1.0),
+        ("wcsph", "wcsph", 1.0),
+        ("pdri", "pdri", 1.0),
+        ("wcsph, alpha = 0", "wcsph", 0.0),
+        ("pdri, alpha = 0", "pdri", 0.0),
+    ];
+    let mut runs = Vec::new();
+    for (label, scheme, av) in variants {
+        let mut cfg = king_lind_drop("newtonian", ppd);
+        cfg.set("scheme", Value::Text(scheme.into()))?;
+        cfg.set("artificial_viscosity_alpha", Value::Real(av))?;
+        eprintln!("bench isph: cross-scheme, {label}, W/dr = {ppd} ...");
+        runs.push((label, isph_run(&cfg, t_star_end)?));
+    }
+    writeln!(
+        md,
+        "\nCross-scheme agreement, Newtonian Re = 4 drop, W/dr = {ppd}, t* <= {t_star_end} \
+         (max |Delta W*| over outputs every 0.05 t*; the weakly compressible schemes with \
+         c = 12.6 m/s):\n\n| scheme | steps | wall [s] | W*(end) | max \\|volume_error\\| | {} |\n|---|---|---|---|---|{}",
+        variants.map(|v| format!("vs {}", v.0)).join(" | "),
+        "---|".repeat(variants.len())
+    )?;
+    let mut csv = String::from("scheme,other,max_abs_dw\n");
+    for (label, r) in &runs {
+        let w_end = r
+            .series
+            .last()
+            .map_or(f64::NAN, |(_, o)| o.drop_width / 0.02);
+        let vmax = r
+            .series
+            .iter()
+            .map(|(_, o)| o.volume_error.abs())
+            .fold(0.0, f64::max);
+        write!(
+            md,
+            "| {label} | {} | {:.2} | {w_end:.3} | {:.2} % |",
+            r.steps,
+            r.wall,
+            100.0 * vmax
+        )?;
+        for (other, q) in &runs {
+            let d = max_width_difference(&r.series, &q.series, 0.02);
+            write!(md, " {d:.3} |")?;
+            writeln!(csv, "{label},{other},{d:.5}")?;
+        }
+        writeln!(
+            md,
+            "{}",
+            r.error
+                .as_ref()
+                .map(|e| format!(" broke down: {e}"))
+                .unwrap_or_default()
+        )?;
+    }
+    std::fs::write(out.join("isph_cross_scheme.csv"), csv)?;
+    Ok(())
 }
 
 /// One row of a drop benchmark.
@@ -1084,6 +1156,12 @@ const REPORT_SECTIONS: &[(&str, &str, &str, &[&str])] = &[
             "channel_wi.png",
             "channel_nonlinear.png",
         ],
+    ),
+    (
+        "ISPH (King & Lind 2021) on their Newtonian Re = 4 drop (issue 11)",
+        "nice -n 10 viscosph bench isph",
+        "isph.md",
+        &[],
     ),
     (
         "PySPH side by side",
