@@ -48,6 +48,26 @@ fn newtonian_drop_spreads_monotonically() {
         .all(|(_, o)| o.values().iter().all(|v| v.is_finite())));
 }
 
+/// The density-invariant PPE source holds the drop's covered area (geometric volume_error) at
+/// W/dr = 40: largest |error| over t* <= 8 measured 1.7 % with it and 3.4 % without (the
+/// arrangement expands after impact); 2.5 % separates the two. (The 0.5 % of the issue holds
+/// only from W/dr = 80 on: docs/isph.md, "Volume".)
+#[test]
+fn density_invariant_source_holds_the_volume() {
+    let c = cfg(&[
+        ("rheology", s("newtonian")),
+        ("particles_per_diameter", i(40)),
+        ("threads", i(2)),
+    ]);
+    let (ser, err, _) = series(&c, 8.0 * T_STAR, 0.2 * T_STAR);
+    assert!(err.is_none(), "{err:?}");
+    let worst = ser
+        .iter()
+        .map(|(_, o)| o.volume_error.abs())
+        .fold(0.0, f64::max);
+    assert!(worst < 0.025, "largest |volume_error| {worst}");
+}
+
 /// Oldroyd-B, De = 1, beta = 0.1 (lambda = 0.02 s): the drop spreads, then retracts (King & Lind
 /// Fig. 12: a maximum of W* near t* = 2, a minimum near t* = 3.5).
 #[test]
