@@ -4,9 +4,10 @@
 //! 100 and Giesekus with alpha = 0, 0.1, 0.2 at Wi = 10/3; and the Newtonian jet from nozzle
 //! heights of 2 to 12 D, for the planar buckling criterion (H/D above about pi at low Re, as
 //! quoted from Cruickshank & Munson 1981), the 2 D jet also for a long run. Every case runs
-//! under ISPH (the jet's default scheme, [`viscosph::scene::jet::DEFAULTS`]); the cases that
-//! carry King & Lind's trends (the Wi sweep, FENE-P against FENE-CR at L^2 = 10) also under
-//! WCSPH, side by side. Each run is tabulated by the time the jet reaches the plate and its
+//! under ISPH (King & Lind's scheme; the jet's default stays WCSPH until ISPH's free surface
+//! holds the column together, [`viscosph::scene::jet::DEFAULTS`]); the cases that carry King &
+//! Lind's trends (the Wi sweep, FENE-P against FENE-CR at L^2 = 10) also under WCSPH, side by
+//! side. Each run is tabulated by the time the jet reaches the plate and its
 //! buckling onset, frequency and amplitude ([`viscosph::scene::jet::buckling`]).
 
 use crate::run::{run, RunOptions};
