@@ -106,6 +106,14 @@ pub fn variants() -> Vec<Variant> {
                 ("artificial_stress_epsilon", Value::Real(0.1)),
             ],
         ),
+        v(
+            "isph, lagrangian",
+            &[("scheme", text("isph")), ("isph_frame", text("lagrangian"))],
+        ),
+        v(
+            "isph, eulerian",
+            &[("scheme", text("isph")), ("isph_frame", text("eulerian"))],
+        ),
     ]
 }
 
