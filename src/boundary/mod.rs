@@ -12,6 +12,7 @@
 pub mod ghost;
 pub mod mirror;
 pub mod plate;
+pub mod wall_profile;
 
 use crate::neighbors::CellGrid;
 use crate::particles::Fluid;

@@ -3,8 +3,10 @@
 //! and y = H, periodic along x with period L, driven from t = 0 by a body force g along x
 //! (gravity off). Its exact solution for an Oldroyd-B fluid is Waters & King 1970's.
 //!
-//! The lattice has `particles_per_diameter` particles across the width H (dx = H / n) at
-//! ((i + 1/2) dx, (j + 1/2) dx), and L / dx (rounded, at least [`MIN_COLUMNS`]) along the period;
+//! The lattice has `particles_per_diameter` = n spacings across the width H (dx = H / n): rows
+//! at y = j dx, j = 1 .. n-1, for the schemes with wall particles on the wall lines (wcsph,
+//! pdri), n rows at y = (j + 1/2) dx for isph's mirror walls; columns at x = (i + 1/2) dx,
+//! L / dx of them (rounded, at least [`MIN_COLUMNS`]) along the period;
 //! the walls' columns sit at whole multiples of dx and span exactly one period, and the
 //! neighbour search wraps x (no particle is stored twice).
 //!
@@ -14,11 +16,11 @@
 //! 1 - (dx/H)^2 low); `flow_rate`, sum_i V_i u_i / L per unit depth; `wall_shear_stress`, the
 //! force of the fluid on both walls along the flow over 2 L. At steady state the walls carry the
 //! body force on the fluid between the wall rows, rho g H (n - 1) / (2 n): the half cells next to
-//! the wall lines belong to the wall particles.
+//! the wall lines belong to the wall particles (isph: rho g H / 2, the fluid fills the width).
 
 use super::Scene;
 use crate::boundary::plate::Plate;
-use crate::config::{ConfigError, SceneConfig};
+use crate::config::{ConfigError, SceneConfig, SchemeKind};
 use crate::diagnostics::Outputs;
 use crate::neighbors::Domain;
 use crate::particles::Fluid;
@@ -87,11 +89,19 @@ impl Scene for Channel {
             mass: cfg.density * dx * dx,
             ..Default::default()
         };
-        for j in 1..n {
+        // Wall particles (wcsph, pdri) sit on the wall lines, so the fluid rows are at j dx,
+        // j = 1 .. n-1. Mirrors (isph) reflect the fluid itself: rows at (j + 1/2) dx,
+        // j = 0 .. n-1, put the first mirror row dx below the first fluid row, as in the bulk.
+        // (Rows at j dx left a gap of 2 dx at each wall: measured, the Newtonian Lagrangian
+        // centre line settled 10 % high at 30 across.)
+        let rows: Vec<f64> = if cfg.scheme == SchemeKind::Isph {
+            (0..n).map(|j| (j as f64 + 0.5) * dx).collect()
+        } else {
+            (1..n).map(|j| j as f64 * dx).collect()
+        };
+        for y in rows {
             for i in 0..m {
-                fluid
-                    .x
-                    .push(Vec2::new((i as f64 + 0.5) * dx, j as f64 * dx));
+                fluid.x.push(Vec2::new((i as f64 + 0.5) * dx, y));
             }
         }
         let count = fluid.x.len();
@@ -220,6 +230,29 @@ mod tests {
         assert!((walls[1].d(&Vec2::new(0.3, 0.015)) - 0.005).abs() < 1e-15);
         c.channel_length = 0.01;
         assert!(Channel.validate(&Channel.effective_config(&c)).is_err());
+    }
+
+    #[test]
+    fn isph_lattice_fills_the_width_for_the_mirror_walls() {
+        // Mirrors reflect the fluid across y = 0 and y = H: the first fluid row half a spacing
+        // from the wall puts the first mirror row one spacing below it, as in the bulk.
+        let c = SceneConfig {
+            scene: crate::config::Scene::Channel,
+            scheme: SchemeKind::Isph,
+            particles_per_diameter: 10,
+            ..Default::default()
+        };
+        let e = Channel.effective_config(&c);
+        let dx = e.dx();
+        let (f, _) = Channel.build(&e, None);
+        assert_eq!(f.len() as i64, 10 * columns(&e));
+        let mut ys: Vec<f64> = f.x.iter().map(|x| x.y).collect();
+        ys.sort_by(f64::total_cmp);
+        ys.dedup();
+        assert_eq!(ys.len(), 10);
+        for (j, y) in ys.iter().enumerate() {
+            assert!((y - (j as f64 + 0.5) * dx).abs() < 1e-15, "{y}");
+        }
     }
 
     #[test]

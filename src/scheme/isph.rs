@@ -75,6 +75,13 @@
 //!   W/dr = 40, alpha = 0.2); applied only where compressed, it did nothing measurable. What
 //!   remains is tangential crowding of the free-surface row (Dirichlet rows, which no source
 //!   reaches): docs/isph.md, "Volume".
+//! * **The closed periodic channel** (no free surface; issue 12) differs in three places, each
+//!   measured on King & Lind's unit channel at 30 across: the body force is in the predictor
+//!   (with the corrector's g the implicit viscous step acts on u - g dt, and the Newtonian flow
+//!   settled g dt = 0.067 U fast everywhere); the mirrors continue the fitted wall curvature of
+//!   the velocity and the slope of the shear stress ([`wall_profile`]; Newtonian centre line
+//!   0.9994 U, flow rate 0.66663 U H, against 1.0016 U and 0.6688 U H without); and the
+//!   Lagrangian frame takes a third of the step (`LAGRANGIAN_CHANNEL_DT`).
 //! * A pressure or viscous solve that does not converge stops the run with the solver's cause.
 //! * **Inlet** (the jet's nozzle, [`crate::state::Inflow::holds`]): a buffer of particles held at
 //!   the inflow velocity, in the spirit of the moving ghost particles King & Lind cite for their
@@ -95,6 +102,7 @@ use super::Scheme;
 use crate::boundary::ghost::keep_above_plate;
 use crate::boundary::mirror::MirrorWall;
 use crate::boundary::plate::Plate;
+use crate::boundary::wall_profile;
 use crate::boundary::Boundary;
 use crate::config::{ConformationMethod, IsphFrame, SceneConfig, ViscousStep};
 use crate::kernel::{Kernel, QuinticSpline};
@@ -115,6 +123,17 @@ const DT_COEF_PER_FACTOR: f64 = 2.0 / 3.0;
 const PENETRATION_DEPTH: f64 = 0.5;
 /// Relaxation coefficient of the density-invariant PPE source (module documentation).
 const DENSITY_INVARIANCE: f64 = 0.05;
+/// The time-step coefficient of the Lagrangian frame in a closed channel, relative to (28)'s.
+/// The internal shifting of King & Lind eq. (41) moves a particle h^2/4 |grad C| *per step*, so
+/// its rate per unit time falls as the step grows, while the disorder a shear flow makes grows
+/// with the time elapsed. Their step is the viscous (28), 0.2 rho h^2 / eta0; the implicit
+/// viscous step lets ours grow about 25 times larger (Re = 1, 30 across), and the Oldroyd-B
+/// channel (Wi = 1, beta = 0.1) then broke at t = 1.5 H/U with the wall rows disordered.
+/// Measured at t = 0 .. 2.5: coefficient 1 breaks at t = 1.5, 1/3 follows Waters & King within
+/// 1.3 %; 1/3 with the shift per step divided by 3 (the shift per unit time of coefficient 1)
+/// breaks at t = 1.7, so the shift per unit time is what matters. The Eulerian frame has no
+/// disorder and keeps (28).
+const LAGRANGIAN_CHANNEL_DT: f64 = 1.0 / 3.0;
 /// Smallest number of particles per parallel task.
 const MIN_TASK: usize = 64;
 
@@ -163,6 +182,12 @@ impl<R: Rheology> Isph<R> {
         };
         let reach = kernel.radius();
         let c_lattice = lattice_concentration(&kernel, p.dx);
+        let free_surface = cfg.scene != crate::config::Scene::Channel;
+        let frame_dt = if !free_surface && cfg.isph_frame == IsphFrame::Lagrangian {
+            LAGRANGIAN_CHANNEL_DT
+        } else {
+            1.0
+        };
         Self {
             kernel,
             model,
@@ -170,8 +195,8 @@ impl<R: Rheology> Isph<R> {
             method,
             frame: cfg.isph_frame,
             viscous: cfg.isph_viscous_step,
-            free_surface: cfg.scene != crate::config::Scene::Channel,
-            dt_coef: DT_COEF_PER_FACTOR * cfg.time_step_factor,
+            free_surface,
+            dt_coef: DT_COEF_PER_FACTOR * cfg.time_step_factor * frame_dt,
             rho: p.eos.rho0,
             solver: SolverOptions::default(),
             walls: plates.iter().map(|_| MirrorWall::new(reach)).collect(),
@@ -345,12 +370,17 @@ impl<R: Rheology> Scheme for Isph<R> {
         self.all_x.extend_from_slice(&xs);
         let mut parent: Vec<u32> = Vec::new();
         let mut u_wall: Vec<Vec2> = Vec::new();
+        // Closed channel: each wall's mirrors as a range of the mirror list, for the
+        // second-order continuation of the wall layer (`boundary::wall_profile`).
+        let mut wall_ranges: Vec<(usize, std::ops::Range<usize>)> = Vec::new();
         {
             let fluid_grid = CellGrid::build(&xs, radius, &dom);
             for (wall, plate) in self.walls.iter_mut().zip(st.walls.iter_mut()) {
                 wall.place(plate, &xs, &fluid_grid, radius, &mut self.all_x);
                 let uw = plate.wall_velocity();
+                let start = parent.len();
                 parent.extend_from_slice(&wall.mirrors().parent);
+                wall_ranges.push((wall_ranges.len(), start..parent.len()));
                 u_wall.extend(std::iter::repeat_n(uw, wall.mirrors().parent.len()));
             }
         }
@@ -372,6 +402,23 @@ impl<R: Rheology> Scheme for Isph<R> {
                 }
             }
         }
+        // Closed channel: the wall curvature of u^n the odd mirror continuation misses
+        // (`boundary::wall_profile`), added to every mirror velocity of this step.
+        let u_curv: Vec<Vec2> = if self.free_surface {
+            vec![Vec2::zeros(); nm]
+        } else {
+            let mut c = Vec::with_capacity(nm);
+            for (w, r) in &wall_ranges {
+                c.extend(wall_profile::velocity_corrections(
+                    &st.walls[*w],
+                    &xs,
+                    &parent[r.clone()],
+                    &fl.v,
+                    radius,
+                ));
+            }
+            c
+        };
         // Extend a fluid velocity field over the mirrors (no slip).
         let extend_u = |u: &[Vec2]| -> Vec<Vec2> {
             let mut out = Vec::with_capacity(n + nm);
@@ -380,7 +427,8 @@ impl<R: Rheology> Scheme for Isph<R> {
                 parent
                     .iter()
                     .zip(&u_wall)
-                    .map(|(&i, uw)| 2.0 * uw - u[i as usize]),
+                    .zip(&u_curv)
+                    .map(|((&i, uw), c)| 2.0 * uw - u[i as usize] + c),
             );
             out
         };
@@ -474,6 +522,27 @@ impl<R: Rheology> Scheme for Isph<R> {
         } else {
             Vec::new()
         };
+        // Closed channel: the mirrors' Phi continues the fitted shear-stress slope.
+        let phi_mirror: Vec<Mat2> = if R::ELASTIC {
+            let mut pm: Vec<Mat2> = parent.iter().map(|&i| phi[i as usize]).collect();
+            if !self.free_surface {
+                for (w, r) in &wall_ranges {
+                    let d = wall_profile::shear_stress_corrections(
+                        &st.walls[*w],
+                        &xs,
+                        &parent[r.clone()],
+                        &phi,
+                        radius,
+                    );
+                    for (p, dp) in pm[r.clone()].iter_mut().zip(d) {
+                        *p += dp;
+                    }
+                }
+            }
+            pm
+        } else {
+            Vec::new()
+        };
 
         // Step 4: the predictor (24). Per particle: remap u_ps . grad u, div Phi / rho (positive
         // form) and, explicitly, the viscous Laplacian; the mirrors' share of the forces apart.
@@ -492,7 +561,8 @@ impl<R: Rheology> Scheme for Isph<R> {
                     let pj = if j < n { j } else { parent[j - n] as usize };
                     let mut a = Vec2::zeros();
                     if R::ELASTIC {
-                        a += (phi[i] + phi[pj]) * pairs.grad[off + kk] * (vol / rho);
+                        let phi_j = if j < n { phi[j] } else { phi_mirror[j - n] };
+                        a += (phi[i] + phi_j) * pairs.grad[off + kk] * (vol / rho);
                     }
                     if explicit {
                         let c = pairs.morris[off + kk] * 0.5 * (mu[i] + mu[pj]) / rho;
@@ -507,13 +577,23 @@ impl<R: Rheology> Scheme for Isph<R> {
                 (remap, f + fw, fw)
             })
             .collect();
+        // Closed channel: the body force goes into the predictor (King & Lind eq. (24) as
+        // printed). Nothing balances it but the viscous and polymer stresses, and with the
+        // corrector's g (free-surface scenes, see the module documentation) the implicit
+        // viscous step acts on u* = u - g dt: measured, the Newtonian channel then settled
+        // g dt (0.067 U at 30 across) above Poiseuille everywhere, a wall slip of order dt.
+        let (g_pred, g_corr) = if self.free_surface {
+            (Vec2::zeros(), g)
+        } else {
+            (g, Vec2::zeros())
+        };
         let mut remap_force = Vec2::zeros();
         let mut wall_on_fluid = Vec2::zeros();
         let mut rhs: Vec<Vec2> = Vec::with_capacity(n);
         for (i, (remap, a, aw)) in rows.iter().enumerate() {
             remap_force += remap * mass;
             wall_on_fluid += aw * mass;
-            rhs.push(fl.v[i] + (remap + a) * dt);
+            rhs.push(fl.v[i] + (remap + a + g_pred) * dt);
         }
         let mut iters = [0u64; 2];
         let u_star: Vec<Vec2> = if explicit {
@@ -533,7 +613,11 @@ impl<R: Rheology> Scheme for Isph<R> {
                     }
                 });
             let sign = vec![-1.0; nm];
-            let offset: Vec<Vec2> = u_wall.iter().map(|w| 2.0 * w).collect();
+            let offset: Vec<Vec2> = u_wall
+                .iter()
+                .zip(&u_curv)
+                .map(|(w, c)| 2.0 * w + c)
+                .collect();
             let mut u = rhs.clone();
             let stats = ppe::solve_viscous(
                 n,
@@ -666,7 +750,7 @@ impl<R: Rheology> Scheme for Isph<R> {
         let mut u_new = Vec::with_capacity(n);
         for (i, (a, aw)) in proj.iter().enumerate() {
             wall_on_fluid += aw * mass;
-            u_new.push(u_star[i] + (a + g) * dt);
+            u_new.push(u_star[i] + (a + g_corr) * dt);
             if is_held(i) {
                 held_momentum += (fl.v[i] - u_new[i]) * mass;
                 u_new[i] = fl.v[i];

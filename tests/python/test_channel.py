@@ -7,13 +7,19 @@ import pytest
 from viscosph_fmu import Log, simulate
 
 
-def test_newtonian_channel_through_the_fmu_approaches_the_exact_start_up(fmu):
+@pytest.mark.parametrize(
+    "scheme,frame", [("wcsph", "lagrangian"), ("isph", "lagrangian"), ("isph", "eulerian")]
+)
+def test_newtonian_channel_through_the_fmu_approaches_the_exact_start_up(fmu, scheme, frame):
     # H = 2 cm, rho = 1000, eta0 = 4 Pa s, g = 80 m/s2: U = 1 m/s, t_v = rho H^2 / eta0 = 0.1 s.
+    # isph: King & Lind's mirror walls, periodic images as neighbours, either frame.
     log = Log()
     r = simulate(
         fmu,
         start_values={
             "scene_name": "channel",
+            "scheme_name": scheme,
+            "isph_frame_name": frame,
             "rheology_name": "newtonian",
             "particles_per_diameter": 12,
             "sound_speed": 12.5,

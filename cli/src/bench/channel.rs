@@ -69,6 +69,19 @@ pub struct ChannelArgs {
     /// The Wi sweep of King & Lind's Fig. 5 (Re = 1) or Fig. 6 (Re = 0.01) only; both if absent.
     #[arg(long, value_parser = clap::value_parser!(u8).range(5..=6))]
     pub figure: Option<u8>,
+    /// Only the schemes whose label starts with this text (e.g. `isph`, `wcsph`); all if absent.
+    #[arg(long)]
+    pub schemes: Option<String>,
+}
+
+/// The `--schemes` filter of this run (set once by [`main`]).
+static SCHEMES: std::sync::OnceLock<Option<String>> = std::sync::OnceLock::new();
+
+fn selected(v: &Variant) -> bool {
+    SCHEMES
+        .get()
+        .and_then(|s| s.as_deref())
+        .is_none_or(|p| v.label.starts_with(p))
 }
 
 /// A scheme as the channel benchmark runs it: a label and the parameters that select it.
@@ -91,7 +104,7 @@ pub fn variants() -> Vec<Variant> {
         label,
         pairs: pairs.to_vec(),
     };
-    vec![
+    let all = vec![
         v(
             "wcsph",
             &[
@@ -106,7 +119,16 @@ pub fn variants() -> Vec<Variant> {
                 ("artificial_stress_epsilon", Value::Real(0.1)),
             ],
         ),
-    ]
+        v(
+            "isph/lagrangian",
+            &[("scheme", text("isph")), ("isph_frame", text("lagrangian"))],
+        ),
+        v(
+            "isph/eulerian",
+            &[("scheme", text("isph")), ("isph_frame", text("eulerian"))],
+        ),
+    ];
+    all.into_iter().filter(selected).collect()
 }
 
 /// The schemes of the Wi sweeps and the steady profiles: [`variants`] and, for the schemes with
@@ -209,6 +231,7 @@ pub fn order(e_coarse: f64, e_fine: f64, n_coarse: f64, n_fine: f64) -> f64 {
 }
 
 pub fn main(args: &ChannelArgs, out: &Path, quick: bool) -> BenchResult<String> {
+    SCHEMES.get_or_init(|| args.schemes.clone());
     let parts = match args.part {
         Part::All => vec![Part::Accuracy, Part::Wi, Part::Nonlinear],
         p => vec![p],
@@ -228,7 +251,7 @@ pub fn main(args: &ChannelArgs, out: &Path, quick: bool) -> BenchResult<String> 
         let md = format!(
             "{md}\n_Machine: {}; measured with `{}`._\n",
             machine_description(),
-            command(p, quick, args.full, args.figure)
+            command(p, quick, args.full, args.figure, args.schemes.as_deref())
         );
         std::fs::write(out.join(name), md)?;
     }
@@ -248,7 +271,7 @@ pub fn main(args: &ChannelArgs, out: &Path, quick: bool) -> BenchResult<String> 
     Ok(all)
 }
 
-fn command(p: Part, quick: bool, full: bool, figure: Option<u8>) -> String {
+fn command(p: Part, quick: bool, full: bool, figure: Option<u8>, schemes: Option<&str>) -> String {
     let mut c = String::from("nice -n 10 viscosph bench channel");
     match p {
         Part::Accuracy => c.push_str(" --part accuracy"),
@@ -261,6 +284,9 @@ fn command(p: Part, quick: bool, full: bool, figure: Option<u8>) -> String {
     }
     if let (Part::Wi, Some(f)) = (p, figure) {
         write!(c, " --figure {f}").unwrap_or(());
+    }
+    if let Some(s) = schemes {
+        write!(c, " --schemes {s}").unwrap_or(());
     }
     if quick {
         c.push_str(" --quick");
