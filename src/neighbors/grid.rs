@@ -239,45 +239,7 @@ impl NeighborList {
     pub fn pairs(&self) -> usize {
         self.idx.len()
     }
-
-    /// For lists built with the query points as the first points (`queries = &points[..n]`):
-    /// for every slot of query point i holding a neighbour j < i, the slot of i in j's list
-    /// ([`MIRROR_NONE`] for the other slots). A pair term that is antisymmetric (x_ji = -x_ij
-    /// and v_ji = -v_ij are exact negations in floating point, so is every product of an odd
-    /// number of them) can then be evaluated once per pair and read, negated, from the other
-    /// side, while each particle still sums its own list in ascending order.
-    ///
-    /// The second value says whether every such slot found its mirror. The lists are symmetric
-    /// by construction (the distance test is bitwise symmetric), but a pair exactly at the
-    /// search radius could, after rounding of the cell coordinates, be binned two cells apart
-    /// and found from one side only; callers then evaluate both sides instead.
-    pub fn mirror(&self) -> (Vec<u32>, bool) {
-        let mut mirror = vec![MIRROR_NONE; self.idx.len()];
-        let ok = self
-            .split_mut(&mut mirror)
-            .into_par_iter()
-            .with_min_len(1024)
-            .enumerate()
-            .map(|(i, out)| {
-                let list = self.of(i);
-                let lower = list.partition_point(|&j| (j as usize) < i);
-                let mut ok = true;
-                // j < i < n: j is a query point too.
-                for (m, &j) in out.iter_mut().zip(&list[..lower]) {
-                    match self.of(j as usize).binary_search(&(i as u32)) {
-                        Ok(pos) => *m = self.start[j as usize] + pos as u32,
-                        Err(_) => ok = false,
-                    }
-                }
-                ok
-            })
-            .reduce(|| true, |a, b| a && b);
-        (mirror, ok)
-    }
 }
-
-/// A slot without a mirror (see [`NeighborList::mirror`]).
-pub const MIRROR_NONE: u32 = u32::MAX;
 
 #[cfg(test)]
 mod tests {

@@ -12,9 +12,6 @@ pub struct PairCache {
     pub grad: Vec<Vec2>,
     pub w: Vec<f64>,
     pub len: Vec<u32>,
-    /// The slot of the neighbour list each cached pair came from (where per-pair results of a
-    /// half list are kept, see [`crate::neighbors::NeighborList::mirror`]).
-    pub slot: Vec<u32>,
 }
 
 impl PairCache {
@@ -24,7 +21,6 @@ impl PairCache {
         self.j.resize(n, 0);
         self.grad.resize(n, Vec2::zeros());
         self.w.resize(n, 0.0);
-        self.slot.resize(n, 0);
         self.len.resize(list.len(), 0);
     }
 

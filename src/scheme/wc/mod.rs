@@ -85,14 +85,6 @@ pub struct WcCore<K: Kernel, R: Rheology> {
     nlist: NeighborList,
     /// Neighbours of every virtual particle (only for Ren's artificial stress).
     vlist: NeighborList,
-    /// For each slot of `nlist` with a lower fluid neighbour, that neighbour's slot of this
-    /// particle ([`NeighborList::mirror`]); `symmetric` when every such slot has one.
-    mirror: Vec<u32>,
-    symmetric: bool,
-    /// Per-slot results of the half list (pairs j > i), aligned with `nlist`: the kernel
-    /// gradient and value in pass 1, the momentum pair term in pass 2.
-    half_g: Vec<Vec2>,
-    half_w: Vec<f64>,
     // Work arrays over all particles (fluid first, then virtual).
     all_x: Vec<Vec2>,
     all_v: Vec<Vec2>,
@@ -137,10 +129,6 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
             built_walls: Vec::new(),
             nlist: NeighborList::default(),
             vlist: NeighborList::default(),
-            mirror: Vec::new(),
-            symmetric: false,
-            half_g: Vec::new(),
-            half_w: Vec::new(),
             all_x: Vec::new(),
             all_v: Vec::new(),
             all_rho: Vec::new(),
@@ -203,9 +191,6 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
         }
         let grid = CellGrid::build(&self.all_x, radius, &dom);
         self.nlist = NeighborList::build(&grid, &self.all_x, x, radius, &dom);
-        (self.mirror, self.symmetric) = self.nlist.mirror();
-        self.half_g.resize(self.nlist.pairs(), Vec2::zeros());
-        self.half_w.resize(self.nlist.pairs(), 0.0);
         self.vlist = if self.art.needs_hessian() {
             NeighborList::build(&grid, &self.all_x, &self.all_x[nf..], radius, &dom)
         } else {

@@ -171,53 +171,20 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
         self.pairs.resize_for(&self.nlist);
         self.kappa.resize(nf, Mat2::zeros());
         self.drho.resize(nf, 0.0);
-        let l = self.p.domain.period_x.unwrap_or(0.0);
-        let r2max = self.kernel.radius().powi(2);
-        let sym = self.symmetric;
-        // Half list: the kernel of each pair once, from the side of its lower index (every
-        // slot when the lists are not symmetric). Skin slots are evaluated too (exact zeros,
-        // never read): cheaper than a data-dependent branch per slot.
-        {
-            let (kernel, rec, nlist) = (&self.kernel, &self.rec, &self.nlist);
-            let gs = nlist.split_mut(&mut self.half_g);
-            let ws = nlist.split_mut(&mut self.half_w);
-            (gs, ws)
-                .into_par_iter()
-                .with_min_len(MIN_TASK)
-                .enumerate()
-                .for_each(|(i, (gs, ws))| {
-                    let list = nlist.of(i);
-                    let from = if sym {
-                        list.partition_point(|&j| j as usize <= i)
-                    } else {
-                        0
-                    };
-                    let ri = &rec[i];
-                    for ((&j, g), w) in list[from..]
-                        .iter()
-                        .zip(&mut gs[from..])
-                        .zip(&mut ws[from..])
-                    {
-                        let (dx, dy) = delta::<PERIODIC>(ri.x, ri.y, &rec[j as usize], l);
-                        let r = (dx * dx + dy * dy).sqrt();
-                        let (wv, dw_r) = kernel.w_and_dw_over_r(r);
-                        *g = Vec2::new(dx, dy) * dw_r;
-                        *w = wv;
-                    }
-                });
-        }
         let (kernel, model, p, art, evss) =
             (&self.kernel, &self.model, &self.p, &self.art, self.evss);
         let (rec, tau_p) = (&self.rec, &self.tau_p);
         let nlist = &self.nlist;
-        let (half_g, half_w, mirror) = (&self.half_g, &self.half_w, &self.mirror);
+        let l = self.p.domain.period_x.unwrap_or(0.0);
+        let r2max = kernel.radius().powi(2);
         let laplacian = self.laplacian();
         let js = nlist.split_mut(&mut self.pairs.j);
         let gs = nlist.split_mut(&mut self.pairs.grad);
         let ws = nlist.split_mut(&mut self.pairs.w);
-        let ss = nlist.split_mut(&mut self.pairs.slot);
         (
-            (js, gs, ws, ss),
+            js,
+            gs,
+            ws,
             &mut self.pairs.len[..],
             &mut self.kappa[..],
             &mut self.drho[..],
@@ -230,49 +197,35 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
             .with_min_len(MIN_TASK)
             .enumerate()
             .for_each(
-                |(i, ((js, gs, ws, ss), len, kappa_i, drho_i, sigma_i, art_i, hess_i, mu_i))| {
+                |(i, (js, gs, ws, len, kappa_i, drho_i, sigma_i, art_i, hess_i, mu_i))| {
                     let ri = &rec[i];
                     let (xi, yi, vxi, vyi) = (ri.x, ri.y, ri.vx, ri.vy);
-                    let list = nlist.of(i);
-                    let off = nlist.offset(i);
-                    let lower = if sym {
-                        list.partition_point(|&j| (j as usize) < i)
-                    } else {
-                        0
-                    };
-                    // Compact the pairs inside the support (other than i) to the front of i's
-                    // slots, without a branch per candidate (a fifth of the list is skin): the
-                    // lower neighbours' kernel gradients are their own, negated (x_ij = -x_ji
-                    // exactly, so grad_i W_ij = -grad_j W_ji bit for bit).
+                    // Compact the candidates inside the support (other than i) to the front of
+                    // i's slots, x_ij in the gradient slot and r^2 in the kernel slot, without a
+                    // branch per candidate (a fifth of the list is skin).
                     let mut k = 0;
-                    for (s, &j) in list[..lower].iter().enumerate() {
-                        let (dx, dy) = delta::<PERIODIC>(xi, yi, &rec[j as usize], l);
-                        let r2 = dx * dx + dy * dy;
-                        let m = mirror[off + s] as usize;
-                        js[k] = j;
-                        gs[k] = -half_g[m];
-                        ws[k] = half_w[m];
-                        ss[k] = (off + s) as u32;
-                        k += (r2 < r2max) as usize;
-                    }
-                    for (s, &j) in list.iter().enumerate().skip(lower) {
+                    for &j in nlist.of(i) {
                         let (dx, dy) = delta::<PERIODIC>(xi, yi, &rec[j as usize], l);
                         let r2 = dx * dx + dy * dy;
                         js[k] = j;
-                        gs[k] = half_g[off + s];
-                        ws[k] = half_w[off + s];
-                        ss[k] = (off + s) as u32;
+                        gs[k] = Vec2::new(dx, dy);
+                        ws[k] = r2;
                         k += ((r2 < r2max) & (j as usize != i)) as usize;
                     }
                     let mut kin = Kinematics::default();
                     let mut hess = Mat2::zeros();
-                    for (j, grad) in js[..k].iter().zip(&gs[..k]) {
+                    for ((j, g), w) in js[..k].iter().zip(&mut gs[..k]).zip(&mut ws[..k]) {
+                        let xij = *g;
+                        let r2 = *w;
+                        let r = r2.sqrt();
+                        let (wv, dw_r) = kernel.w_and_dw_over_r(r);
+                        let grad = xij * dw_r;
+                        *g = grad;
+                        *w = wv;
                         let rj = &rec[*j as usize];
-                        kin.add_pair(&Vec2::new(vxi - rj.vx, vyi - rj.vy), grad, rj.vol);
+                        kin.add_pair(&Vec2::new(vxi - rj.vx, vyi - rj.vy), &grad, rj.vol);
                         if HESS {
-                            let (dx, dy) = delta::<PERIODIC>(xi, yi, rj, l);
-                            let r2 = dx * dx + dy * dy;
-                            hess += artificial::kernel_hessian(kernel, &Vec2::new(dx, dy), r2);
+                            hess += artificial::kernel_hessian(kernel, &xij, r2);
                         }
                     }
                     *len = k as u32;
@@ -321,52 +274,48 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
         let mass = fl.mass;
         self.acc.resize(nf, Vec2::zeros());
         self.wall_acc.resize(nf, Vec2::zeros());
-        let sym = self.symmetric;
-        let h = self.kernel.h();
-        let cst = PairConst {
-            alpha: self.p.alpha,
-            beta: self.p.beta,
-            c: self.p.eos.c,
-            h,
-            eta2: MORRIS_ETA2 * h * h,
-            l: self.p.domain.period_x.unwrap_or(0.0),
-        };
-        // The half list: each fluid pair term once, from its lower index, kept in that pair's
-        // slot; the terms with virtual neighbours (one side only) summed here.
         {
-            let (rec, pairs, nlist, art) = (&self.rec, &self.pairs, &self.nlist, &self.art);
-            let gs = nlist.split_mut(&mut self.half_g);
-            (gs, &mut self.wall_acc[..])
+            let p = &self.p;
+            let rec = &self.rec;
+            let (pairs, nlist) = (&self.pairs, &self.nlist);
+            let l = self.p.domain.period_x.unwrap_or(0.0);
+            let h = self.kernel.h();
+            let art = &self.art;
+            let eta2 = MORRIS_ETA2 * h * h;
+            let cst = PairConst {
+                alpha: p.alpha,
+                beta: p.beta,
+                c: p.eos.c,
+                h,
+                eta2,
+                l,
+            };
+            (&mut self.acc[..], &mut self.wall_acc[..])
                 .into_par_iter()
                 .with_min_len(MIN_TASK)
                 .enumerate()
-                .for_each(|(i, (out, wall_i))| {
+                .for_each(|(i, (acc_i, wall_i))| {
                     let ri = &rec[i];
-                    let off = nlist.offset(i);
                     let range = pairs.range(nlist, i);
-                    let (jj, gg, ww, sl) = (
+                    let (jj, gg, ww) = (
                         &pairs.j[range.clone()],
                         &pairs.grad[range.clone()],
-                        &pairs.w[range.clone()],
-                        &pairs.slot[range],
+                        &pairs.w[range],
                     );
-                    // Ascending lists: lower fluid neighbours, higher fluid ones, virtual ones.
-                    let from = if sym {
-                        jj.partition_point(|&j| (j as usize) < i)
-                    } else {
-                        0
-                    };
+                    // Ascending lists: fluid neighbours first, then virtual ones.
                     let split = jj.partition_point(|&j| (j as usize) < nf);
-                    for k in from..split {
+                    let mut a = Vec2::zeros();
+                    for ((&j, &g), &w) in jj[..split].iter().zip(&gg[..split]).zip(&ww[..split]) {
                         let (cx, cy) = pair_term::<PERIODIC, MORRIS, ART>(
                             ri,
-                            &rec[jj[k] as usize],
-                            gg[k],
-                            ww[k],
+                            &rec[j as usize],
+                            g,
+                            w,
                             &cst,
                             art,
                         );
-                        out[sl[k] as usize - off] = Vec2::new(cx, cy);
+                        a.x += cx;
+                        a.y += cy;
                     }
                     let mut aw = Vec2::zeros();
                     for ((&j, &g), &w) in jj[split..].iter().zip(&gg[split..]).zip(&ww[split..]) {
@@ -381,43 +330,8 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
                         aw.x += cx;
                         aw.y += cy;
                     }
-                    *wall_i = aw;
-                });
-        }
-        // The gather: every particle sums its own list in ascending order, the lower pairs'
-        // terms read from the other side and negated (each is an exact negation: x, v and
-        // grad W change sign, every other factor is symmetric), then the virtual part.
-        {
-            let (pairs, nlist, half_g, mirror) =
-                (&self.pairs, &self.nlist, &self.half_g, &self.mirror);
-            let g = self.p.gravity;
-            (&mut self.acc[..], &mut self.wall_acc[..])
-                .into_par_iter()
-                .with_min_len(MIN_TASK)
-                .enumerate()
-                .for_each(|(i, (acc_i, wall_i))| {
-                    let range = pairs.range(nlist, i);
-                    let (jj, sl) = (&pairs.j[range.clone()], &pairs.slot[range]);
-                    let lower = if sym {
-                        jj.partition_point(|&j| (j as usize) < i)
-                    } else {
-                        0
-                    };
-                    let split = jj.partition_point(|&j| (j as usize) < nf);
-                    let mut a = Vec2::zeros();
-                    for &s in &sl[..lower] {
-                        let t = half_g[mirror[s as usize] as usize];
-                        a.x += -t.x;
-                        a.y += -t.y;
-                    }
-                    for &s in &sl[lower..split] {
-                        let t = half_g[s as usize];
-                        a.x += t.x;
-                        a.y += t.y;
-                    }
-                    let aw = *wall_i;
                     *wall_i = aw * mass;
-                    *acc_i = (a + aw) * mass + g;
+                    *acc_i = (a + aw) * mass + p.gravity;
                 });
         }
         // Sequential, fixed-order reductions.
