@@ -55,7 +55,7 @@ fn delta<const PERIODIC: bool>(ax: f64, ay: f64, b: &Rec, l: f64) -> (f64, f64) 
     (dx, dy)
 }
 
-/// The loop-invariant numbers of pass 2's pair term.
+/// The loop-invariant numbers of the pair terms.
 struct PairConst {
     alpha: f64,
     beta: f64,
@@ -66,16 +66,18 @@ struct PairConst {
 }
 
 /// The pass-2 pair term of particle i (record `ri`) with neighbour j (`rj`), kernel gradient
-/// `grad` and value `w`: exactly the operations of Fang eq. (27) with eqs. (30)-(38) (and Morris'
-/// term) as the operators write them, component by component.
+/// `grad`, artificial viscosity `pi` and artificial stress factor `f` (both from pass 1): exactly
+/// the operations of Fang eq. (27) with eqs. (30)-(38) (and Morris' term) as the operators write
+/// them, component by component. Without Morris' term it reads only the second line of j's
+/// record.
 #[inline(always)]
 fn pair_term<const PERIODIC: bool, const MORRIS: bool, const ART: bool>(
     ri: &Rec,
     rj: &Rec,
     grad: Vec2,
-    w: f64,
+    pi: f64,
+    f: f64,
     k: &PairConst,
-    art: &ArtificialStress,
 ) -> (f64, f64) {
     let mut t = [
         ri.s[0] + rj.s[0],
@@ -83,25 +85,10 @@ fn pair_term<const PERIODIC: bool, const MORRIS: bool, const ART: bool>(
         ri.s[2] + rj.s[2],
         ri.s[3] + rj.s[3],
     ];
-    let (dx, dy) = delta::<PERIODIC>(ri.x, ri.y, rj, k.l);
-    let xij = Vec2::new(dx, dy);
-    let vij = Vec2::new(ri.vx - rj.vx, ri.vy - rj.vy);
-    let r2 = xij.norm_squared();
-    let pi = artificial::viscosity(
-        k.alpha,
-        k.beta,
-        k.h,
-        k.c,
-        0.5 * (ri.rho + rj.rho),
-        &vij,
-        &xij,
-        r2,
-    );
     t[0] -= pi;
     t[3] -= pi;
     if ART {
         // A zero R_i + R_j adds exact zeros: no branch needed.
-        let f = art.pair_factor(w, r2);
         for (tc, (a, b)) in t.iter_mut().zip(ri.r.iter().zip(&rj.r)) {
             *tc += (a + b) * f;
         }
@@ -110,11 +97,39 @@ fn pair_term<const PERIODIC: bool, const MORRIS: bool, const ART: bool>(
     let mut cx = t[0] * grad.x + t[2] * grad.y;
     let mut cy = t[1] * grad.x + t[3] * grad.y;
     if MORRIS {
+        let (dx, dy) = delta::<PERIODIC>(ri.x, ri.y, rj, k.l);
+        let xij = Vec2::new(dx, dy);
+        let vij = Vec2::new(ri.vx - rj.vx, ri.vy - rj.vy);
+        let r2 = xij.norm_squared();
         let m = stress::morris_pair(&vij, &xij, &grad, ri.mu + rj.mu, ri.rho, rj.rho, r2, k.eta2);
         cx += m.x;
         cy += m.y;
     }
     (cx, cy)
+}
+
+/// Pass 1's per-slot arithmetic over one particle's compacted pairs: on entry `g` holds x_ij,
+/// `w` r^2, `pi` v_ij . x_ij and `f` the mean density; on exit grad_i W_ij, W_ij, Pi_ij
+/// (Fang 2006 eqs. 31-33) and f_ij^n (eq. 39; 0 without artificial stress, `ART`). Element by element,
+/// the operations of the kernel and of [`artificial::viscosity`], so the values are bitwise
+/// those computed pair by pair.
+#[inline(always)]
+fn pair_kernels<K: Kernel, const ART: bool>(
+    kernel: &K,
+    art: &ArtificialStress,
+    k: &PairConst,
+    (g, w, pi, f): (&mut [Vec2], &mut [f64], &mut [f64], &mut [f64]),
+) {
+    let n = g.len().min(w.len()).min(pi.len()).min(f.len());
+    let (g, w, pi, f) = (&mut g[..n], &mut w[..n], &mut pi[..n], &mut f[..n]);
+    for s in 0..n {
+        let r2 = w[s];
+        let (wv, dw_r) = kernel.w_and_dw_over_r(r2.sqrt());
+        g[s] *= dw_r;
+        w[s] = wv;
+        pi[s] = artificial::viscosity_of_dot(k.alpha, k.beta, k.h, k.c, f[s], pi[s], r2);
+        f[s] = if ART { art.pair_factor(wv, r2) } else { 0.0 };
+    }
 }
 
 impl<K: Kernel, R: Rheology> WcCore<K, R> {
@@ -175,16 +190,26 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
             (&self.kernel, &self.model, &self.p, &self.art, self.evss);
         let (rec, tau_p) = (&self.rec, &self.tau_p);
         let nlist = &self.nlist;
-        let l = self.p.domain.period_x.unwrap_or(0.0);
+        let h = kernel.h();
+        let cst = PairConst {
+            alpha: p.alpha,
+            beta: p.beta,
+            c: p.eos.c,
+            h,
+            eta2: MORRIS_ETA2 * h * h,
+            l: self.p.domain.period_x.unwrap_or(0.0),
+        };
+        let l = cst.l;
         let r2max = kernel.radius().powi(2);
         let laplacian = self.laplacian();
+        let art_on = art.is_on();
         let js = nlist.split_mut(&mut self.pairs.j);
         let gs = nlist.split_mut(&mut self.pairs.grad);
         let ws = nlist.split_mut(&mut self.pairs.w);
+        let ps = nlist.split_mut(&mut self.pairs.pi);
+        let fs = nlist.split_mut(&mut self.pairs.f);
         (
-            js,
-            gs,
-            ws,
+            (js, gs, ws, ps, fs),
             &mut self.pairs.len[..],
             &mut self.kappa[..],
             &mut self.drho[..],
@@ -197,35 +222,44 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
             .with_min_len(MIN_TASK)
             .enumerate()
             .for_each(
-                |(i, (js, gs, ws, len, kappa_i, drho_i, sigma_i, art_i, hess_i, mu_i))| {
+                |(i, ((js, gs, ws, ps, fs), len, kappa_i, drho_i, sigma_i, art_i, hess_i, mu_i))| {
                     let ri = &rec[i];
                     let (xi, yi, vxi, vyi) = (ri.x, ri.y, ri.vx, ri.vy);
                     // Compact the candidates inside the support (other than i) to the front of
-                    // i's slots, x_ij in the gradient slot and r^2 in the kernel slot, without a
-                    // branch per candidate (a fifth of the list is skin).
+                    // i's slots, without a branch per candidate (a fifth of the list is skin):
+                    // x_ij, r^2, v_ij . x_ij and the mean density, all that the artificial
+                    // viscosity needs.
                     let mut k = 0;
                     for &j in nlist.of(i) {
-                        let (dx, dy) = delta::<PERIODIC>(xi, yi, &rec[j as usize], l);
+                        let rj = &rec[j as usize];
+                        let (dx, dy) = delta::<PERIODIC>(xi, yi, rj, l);
                         let r2 = dx * dx + dy * dy;
+                        let xij = Vec2::new(dx, dy);
                         js[k] = j;
-                        gs[k] = Vec2::new(dx, dy);
+                        gs[k] = xij;
                         ws[k] = r2;
+                        ps[k] = Vec2::new(vxi - rj.vx, vyi - rj.vy).dot(&xij);
+                        fs[k] = 0.5 * (ri.rho + rj.rho);
                         k += ((r2 < r2max) & (j as usize != i)) as usize;
+                    }
+                    // Then, slot by slot with no neighbour data and no branch (a loop the
+                    // compiler vectorises): the kernel, the artificial viscosity and the
+                    // artificial stress factor.
+                    let slots = (&mut gs[..k], &mut ws[..k], &mut ps[..k], &mut fs[..k]);
+                    if art_on {
+                        pair_kernels::<K, true>(kernel, art, &cst, slots);
+                    } else {
+                        pair_kernels::<K, false>(kernel, art, &cst, slots);
                     }
                     let mut kin = Kinematics::default();
                     let mut hess = Mat2::zeros();
-                    for ((j, g), w) in js[..k].iter().zip(&mut gs[..k]).zip(&mut ws[..k]) {
-                        let xij = *g;
-                        let r2 = *w;
-                        let r = r2.sqrt();
-                        let (wv, dw_r) = kernel.w_and_dw_over_r(r);
-                        let grad = xij * dw_r;
-                        *g = grad;
-                        *w = wv;
+                    for (j, grad) in js[..k].iter().zip(&gs[..k]) {
                         let rj = &rec[*j as usize];
-                        kin.add_pair(&Vec2::new(vxi - rj.vx, vyi - rj.vy), &grad, rj.vol);
+                        kin.add_pair(&Vec2::new(vxi - rj.vx, vyi - rj.vy), grad, rj.vol);
                         if HESS {
-                            hess += artificial::kernel_hessian(kernel, &xij, r2);
+                            let (dx, dy) = delta::<PERIODIC>(xi, yi, rj, l);
+                            let r2 = dx * dx + dy * dy;
+                            hess += artificial::kernel_hessian(kernel, &Vec2::new(dx, dy), r2);
                         }
                     }
                     *len = k as u32;
@@ -280,7 +314,6 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
             let (pairs, nlist) = (&self.pairs, &self.nlist);
             let l = self.p.domain.period_x.unwrap_or(0.0);
             let h = self.kernel.h();
-            let art = &self.art;
             let eta2 = MORRIS_ETA2 * h * h;
             let cst = PairConst {
                 alpha: p.alpha,
@@ -297,39 +330,32 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
                 .for_each(|(i, (acc_i, wall_i))| {
                     let ri = &rec[i];
                     let range = pairs.range(nlist, i);
-                    let (jj, gg, ww) = (
+                    let (jj, gg, pp, ff) = (
                         &pairs.j[range.clone()],
                         &pairs.grad[range.clone()],
-                        &pairs.w[range],
+                        &pairs.pi[range.clone()],
+                        &pairs.f[range],
                     );
                     // Ascending lists: fluid neighbours first, then virtual ones.
                     let split = jj.partition_point(|&j| (j as usize) < nf);
-                    let mut a = Vec2::zeros();
-                    for ((&j, &g), &w) in jj[..split].iter().zip(&gg[..split]).zip(&ww[..split]) {
-                        let (cx, cy) = pair_term::<PERIODIC, MORRIS, ART>(
-                            ri,
-                            &rec[j as usize],
-                            g,
-                            w,
-                            &cst,
-                            art,
-                        );
-                        a.x += cx;
-                        a.y += cy;
-                    }
-                    let mut aw = Vec2::zeros();
-                    for ((&j, &g), &w) in jj[split..].iter().zip(&gg[split..]).zip(&ww[split..]) {
-                        let (cx, cy) = pair_term::<PERIODIC, MORRIS, ART>(
-                            ri,
-                            &rec[j as usize],
-                            g,
-                            w,
-                            &cst,
-                            art,
-                        );
-                        aw.x += cx;
-                        aw.y += cy;
-                    }
+                    let sum = |from: usize, to: usize| {
+                        let mut a = Vec2::zeros();
+                        for k in from..to {
+                            let (cx, cy) = pair_term::<PERIODIC, MORRIS, ART>(
+                                ri,
+                                &rec[jj[k] as usize],
+                                gg[k],
+                                pp[k],
+                                ff[k],
+                                &cst,
+                            );
+                            a.x += cx;
+                            a.y += cy;
+                        }
+                        a
+                    };
+                    let a = sum(0, split);
+                    let aw = sum(split, jj.len());
                     *wall_i = aw * mass;
                     *acc_i = (a + aw) * mass + p.gravity;
                 });
