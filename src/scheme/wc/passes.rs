@@ -280,8 +280,8 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
                         k += ((r2 < r2max) & (j as usize != i)) as usize;
                     }
                     // Then, slot by slot with no neighbour data and no branch (a loop the
-                    // compiler vectorises): the kernel, the artificial viscosity and the
-                    // artificial stress factor.
+                    // compiler vectorises in the AVX2 build): the kernel, the artificial
+                    // viscosity and the artificial stress factor.
                     let slots = (&mut gs[..k], &mut ws[..k], &mut ps[..k], &mut fs[..k]);
                     let art_pairs = art_on.then_some(art);
                     #[cfg(target_arch = "x86_64")]
