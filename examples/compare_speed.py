@@ -1,10 +1,11 @@
 """Side-by-side speed of two ViscoSPH builds, alternating, in one run (speed is a ratio measured
 on the same machine at the same time, never an absolute figure carried between sessions).
 
-Usage:
-  python3 examples/compare_speed.py --base-cli A/viscosph --new-cli B/viscosph \
-      [--base-fmu A.fmu --new-fmu B.fmu] [--case NAME=SCENE.toml:T_END ...] \
+Usage (the baseline as a CLI, or built from a commit into a worktree under --build-dir):
+  python3 examples/compare_speed.py --base-cli A/viscosph --new-cli B/viscosph
+      [--base-fmu A.fmu --new-fmu B.fmu] [--case NAME=SCENE.toml:T_END ...]
       [--threads 1,2] [--rounds 5] [--no-default]
+  python3 examples/compare_speed.py --build-base 72e3362 --new-cli target/release/viscosph ...
 
 Times (wall clock, whole process for the CLI, `simulate_fmu` for the FMU):
   * `viscosph run` of the default scene (Fang's Oldroyd-B drop to t* = 8), unless --no-default;
@@ -74,9 +75,26 @@ def time_fmu(fmu):
     return float(out.stdout.strip().splitlines()[-1])
 
 
+def build_base(commit, build_dir):
+    """The release CLI of `commit`, built in a worktree of this repository (the crate layout of
+    old commits differs: the binary is built by name, whatever package holds it)."""
+    repo = subprocess.run(["git", "rev-parse", "--show-toplevel"], check=True, capture_output=True,
+                          text=True, cwd=os.path.dirname(os.path.abspath(__file__))).stdout.strip()
+    src = os.path.join(build_dir, commit)
+    if not os.path.isdir(src):
+        subprocess.run(["git", "-C", repo, "worktree", "add", "--detach", src, commit], check=True)
+    env = dict(os.environ, CARGO_TARGET_DIR=os.path.join(src, "target"))
+    subprocess.run(["cargo", "build", "--release", "--bin", "viscosph"], check=True, cwd=src, env=env)
+    return os.path.join(src, "target", "release", "viscosph")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--base-cli", required=True)
+    ap.add_argument("--base-cli", help="the baseline's CLI (or give --build-base)")
+    ap.add_argument("--build-base", metavar="COMMIT",
+                    help="build the CLI of COMMIT (a git worktree and target directory under "
+                         "--build-dir, reused when already there) and use it as --base-cli")
+    ap.add_argument("--build-dir", default=os.path.join(tempfile.gettempdir(), "viscosph-base"))
     ap.add_argument("--new-cli", required=True)
     ap.add_argument("--base-fmu")
     ap.add_argument("--new-fmu")
@@ -86,6 +104,10 @@ def main():
     ap.add_argument("--no-default", action="store_true", help="skip the default scene's whole run")
     ap.add_argument("--rounds", type=int, default=5)
     a = ap.parse_args()
+    if a.build_base:
+        a.base_cli = build_base(a.build_base, a.build_dir)
+    if not a.base_cli:
+        ap.error("give --base-cli or --build-base")
     fmu = a.base_fmu is not None and a.new_fmu is not None
     cases = []  # (label, scene, t_end, threads)
     if not a.no_default:

@@ -102,19 +102,22 @@ impl Kernel for CubicSpline {
     }
     #[inline]
     fn w_and_dw_over_r(&self, r: f64) -> (f64, f64) {
+        // Both pieces evaluated and the value chosen by a select, not a branch: the hot pair
+        // loops call this over whole lists, where q < 1 or not has no pattern (a mispredicted
+        // branch per pair), and a loop without branches vectorises. Each piece is the same
+        // expression as before, so the values are bitwise those of the branching form. The
+        // outer piece divides by r, which may be 0 in a lane that the select drops.
         let q = r * self.inv_h;
-        if q < 1.0 {
-            (
-                self.w0 * (2.0 / 3.0 - q * q + 0.5 * q * q * q),
-                self.w0 * self.inv_h * self.inv_h * (-2.0 + 1.5 * q),
-            )
-        } else if q < 2.0 {
-            let t = 2.0 - q;
-            let w = self.w0 * t * t * t / 6.0;
-            (w, -0.5 * self.w0 * self.inv_h * t * t / r)
-        } else {
-            (0.0, 0.0)
-        }
+        let t = 2.0 - q;
+        let w_in = self.w0 * (2.0 / 3.0 - q * q + 0.5 * q * q * q);
+        let d_in = self.w0 * self.inv_h * self.inv_h * (-2.0 + 1.5 * q);
+        let w_out = self.w0 * t * t * t / 6.0;
+        let d_out = -0.5 * self.w0 * self.inv_h * t * t / r;
+        let inner = q < 1.0;
+        let outer = q < 2.0;
+        let w = if inner { w_in } else { w_out };
+        let d = if inner { d_in } else { d_out };
+        (if outer { w } else { 0.0 }, if outer { d } else { 0.0 })
     }
     #[inline]
     fn dw_over_r(&self, r: f64) -> f64 {

@@ -25,7 +25,21 @@ pub fn viscosity(
     xij: &Vec2,
     r2: f64,
 ) -> f64 {
-    let vx = vij.dot(xij);
+    viscosity_of_dot(alpha, beta, h, c_mean, rho_mean, vij.dot(xij), r2)
+}
+
+/// [`viscosity`] from `vx` = v_ij . x_ij: the same operations, for loops that compute the dot
+/// product where the neighbour's record is at hand and the rest over arrays.
+#[inline(always)]
+pub fn viscosity_of_dot(
+    alpha: f64,
+    beta: f64,
+    h: f64,
+    c_mean: f64,
+    rho_mean: f64,
+    vx: f64,
+    r2: f64,
+) -> f64 {
     let phi = h * vx / (r2 + 0.01 * h * h); // eq. (33)
     let pi = (-alpha * c_mean * phi + beta * phi * phi) / rho_mean; // eq. (31)
                                                                     // eq. (32): receding pairs feel nothing. Chosen by a mask, not a branch: half the pairs of
@@ -179,6 +193,27 @@ impl ArtificialStress {
         match self.kind {
             ArtificialStressKind::Fang => fang_stress(self.coef, sigma, rho),
             ArtificialStressKind::Ren => ren_stress(self.coef, sigma, rho, hess),
+        }
+    }
+
+    /// [`Self::pair_factor`] over arrays: `w` the kernel values, `r2_f` r^2 on entry and
+    /// f_ij^n on exit. The choice of kind is made once, so Fang's loop (pure arithmetic)
+    /// vectorises; the values are those of `pair_factor`, bit for bit.
+    #[inline(always)]
+    pub fn pair_factors(&self, w: &[f64], r2_f: &mut [f64]) {
+        match self.kind {
+            ArtificialStressKind::Fang => {
+                for (f, &w) in r2_f.iter_mut().zip(w) {
+                    let x = w * self.inv_w_d0;
+                    let x2 = x * x;
+                    *f = x2 * x2;
+                }
+            }
+            ArtificialStressKind::Ren => {
+                for (f, &w) in r2_f.iter_mut().zip(w) {
+                    *f = self.pair_factor(w, *f);
+                }
+            }
         }
     }
 

@@ -55,7 +55,7 @@ fn delta<const PERIODIC: bool>(ax: f64, ay: f64, b: &Rec, l: f64) -> (f64, f64) 
     (dx, dy)
 }
 
-/// The loop-invariant numbers of pass 2's pair term.
+/// The loop-invariant numbers of the pair terms.
 struct PairConst {
     alpha: f64,
     beta: f64,
@@ -66,16 +66,18 @@ struct PairConst {
 }
 
 /// The pass-2 pair term of particle i (record `ri`) with neighbour j (`rj`), kernel gradient
-/// `grad` and value `w`: exactly the operations of Fang eq. (27) with eqs. (30)-(38) (and Morris'
-/// term) as the operators write them, component by component.
+/// `grad`, artificial viscosity `pi` and artificial stress factor `f` (both from pass 1): exactly
+/// the operations of Fang eq. (27) with eqs. (30)-(38) (and Morris' term) as the operators write
+/// them, component by component. Without Morris' term it reads only the second line of j's
+/// record.
 #[inline(always)]
 fn pair_term<const PERIODIC: bool, const MORRIS: bool, const ART: bool>(
     ri: &Rec,
     rj: &Rec,
     grad: Vec2,
-    w: f64,
+    pi: f64,
+    f: f64,
     k: &PairConst,
-    art: &ArtificialStress,
 ) -> (f64, f64) {
     let mut t = [
         ri.s[0] + rj.s[0],
@@ -83,25 +85,10 @@ fn pair_term<const PERIODIC: bool, const MORRIS: bool, const ART: bool>(
         ri.s[2] + rj.s[2],
         ri.s[3] + rj.s[3],
     ];
-    let (dx, dy) = delta::<PERIODIC>(ri.x, ri.y, rj, k.l);
-    let xij = Vec2::new(dx, dy);
-    let vij = Vec2::new(ri.vx - rj.vx, ri.vy - rj.vy);
-    let r2 = xij.norm_squared();
-    let pi = artificial::viscosity(
-        k.alpha,
-        k.beta,
-        k.h,
-        k.c,
-        0.5 * (ri.rho + rj.rho),
-        &vij,
-        &xij,
-        r2,
-    );
     t[0] -= pi;
     t[3] -= pi;
     if ART {
         // A zero R_i + R_j adds exact zeros: no branch needed.
-        let f = art.pair_factor(w, r2);
         for (tc, (a, b)) in t.iter_mut().zip(ri.r.iter().zip(&rj.r)) {
             *tc += (a + b) * f;
         }
@@ -110,11 +97,72 @@ fn pair_term<const PERIODIC: bool, const MORRIS: bool, const ART: bool>(
     let mut cx = t[0] * grad.x + t[2] * grad.y;
     let mut cy = t[1] * grad.x + t[3] * grad.y;
     if MORRIS {
+        let (dx, dy) = delta::<PERIODIC>(ri.x, ri.y, rj, k.l);
+        let xij = Vec2::new(dx, dy);
+        let vij = Vec2::new(ri.vx - rj.vx, ri.vy - rj.vy);
+        let r2 = xij.norm_squared();
         let m = stress::morris_pair(&vij, &xij, &grad, ri.mu + rj.mu, ri.rho, rj.rho, r2, k.eta2);
         cx += m.x;
         cy += m.y;
     }
     (cx, cy)
+}
+
+/// Pass 1's per-slot arithmetic over one particle's compacted pairs: on entry `g` holds x_ij,
+/// `w` r^2, `pi` v_ij . x_ij and `f` the mean density; on exit grad_i W_ij, W_ij, Pi_ij
+/// (Fang 2006 eqs. 31-33) and f_ij^n (eq. 39; 0 without artificial stress, `ART`). Element by element,
+/// the operations of the kernel and of [`artificial::viscosity`], so the values are bitwise
+/// those computed pair by pair.
+#[inline(always)]
+fn pair_kernels<K: Kernel>(
+    kernel: &K,
+    art: Option<&ArtificialStress>,
+    k: &PairConst,
+    (g, w, pi, f): (&mut [Vec2], &mut [f64], &mut [f64], &mut [f64]),
+) {
+    let n = g.len().min(w.len()).min(pi.len()).min(f.len());
+    let (g, w, pi, f) = (&mut g[..n], &mut w[..n], &mut pi[..n], &mut f[..n]);
+    for s in 0..n {
+        let r2 = w[s];
+        let (wv, dw_r) = kernel.w_and_dw_over_r(r2.sqrt());
+        g[s] *= dw_r;
+        w[s] = wv;
+        pi[s] = artificial::viscosity_of_dot(k.alpha, k.beta, k.h, k.c, f[s], pi[s], r2);
+        f[s] = r2;
+    }
+    if let Some(art) = art {
+        art.pair_factors(w, f);
+    }
+}
+
+/// [`pair_kernels`] compiled for AVX2 (4 lanes of f64: the divisions and square roots of the
+/// loop, which bound it, run 4 at a time). AVX2 changes no result: IEEE division and square
+/// root are correctly rounded in every lane, and Rust never fuses a multiply and an add, so
+/// the values are bitwise those of the portable build.
+///
+/// # Safety
+/// Only on a CPU with AVX2 (checked once per pass by the caller).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn pair_kernels_avx2<K: Kernel>(
+    kernel: &K,
+    art: Option<&ArtificialStress>,
+    k: &PairConst,
+    slots: (&mut [Vec2], &mut [f64], &mut [f64], &mut [f64]),
+) {
+    pair_kernels(kernel, art, k, slots)
+}
+
+/// Whether this CPU runs the AVX2 build of the pair loops.
+fn has_avx2() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::arch::is_x86_feature_detected!("avx2")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
 }
 
 impl<K: Kernel, R: Rheology> WcCore<K, R> {
@@ -175,16 +223,27 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
             (&self.kernel, &self.model, &self.p, &self.art, self.evss);
         let (rec, tau_p) = (&self.rec, &self.tau_p);
         let nlist = &self.nlist;
-        let l = self.p.domain.period_x.unwrap_or(0.0);
+        let h = kernel.h();
+        let cst = PairConst {
+            alpha: p.alpha,
+            beta: p.beta,
+            c: p.eos.c,
+            h,
+            eta2: MORRIS_ETA2 * h * h,
+            l: self.p.domain.period_x.unwrap_or(0.0),
+        };
+        let l = cst.l;
         let r2max = kernel.radius().powi(2);
         let laplacian = self.laplacian();
+        let art_on = art.is_on();
+        let avx2 = has_avx2();
         let js = nlist.split_mut(&mut self.pairs.j);
         let gs = nlist.split_mut(&mut self.pairs.grad);
         let ws = nlist.split_mut(&mut self.pairs.w);
+        let ps = nlist.split_mut(&mut self.pairs.pi);
+        let fs = nlist.split_mut(&mut self.pairs.f);
         (
-            js,
-            gs,
-            ws,
+            (js, gs, ws, ps, fs),
             &mut self.pairs.len[..],
             &mut self.kappa[..],
             &mut self.drho[..],
@@ -197,35 +256,52 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
             .with_min_len(MIN_TASK)
             .enumerate()
             .for_each(
-                |(i, (js, gs, ws, len, kappa_i, drho_i, sigma_i, art_i, hess_i, mu_i))| {
+                |(
+                    i,
+                    ((js, gs, ws, ps, fs), len, kappa_i, drho_i, sigma_i, art_i, hess_i, mu_i),
+                )| {
                     let ri = &rec[i];
                     let (xi, yi, vxi, vyi) = (ri.x, ri.y, ri.vx, ri.vy);
                     // Compact the candidates inside the support (other than i) to the front of
-                    // i's slots, x_ij in the gradient slot and r^2 in the kernel slot, without a
-                    // branch per candidate (a fifth of the list is skin).
+                    // i's slots, without a branch per candidate (a fifth of the list is skin):
+                    // x_ij, r^2, v_ij . x_ij and the mean density, all that the artificial
+                    // viscosity needs.
                     let mut k = 0;
                     for &j in nlist.of(i) {
-                        let (dx, dy) = delta::<PERIODIC>(xi, yi, &rec[j as usize], l);
+                        let rj = &rec[j as usize];
+                        let (dx, dy) = delta::<PERIODIC>(xi, yi, rj, l);
                         let r2 = dx * dx + dy * dy;
+                        let xij = Vec2::new(dx, dy);
                         js[k] = j;
-                        gs[k] = Vec2::new(dx, dy);
+                        gs[k] = xij;
                         ws[k] = r2;
+                        ps[k] = Vec2::new(vxi - rj.vx, vyi - rj.vy).dot(&xij);
+                        fs[k] = 0.5 * (ri.rho + rj.rho);
                         k += ((r2 < r2max) & (j as usize != i)) as usize;
                     }
+                    // Then, slot by slot with no neighbour data and no branch (a loop the
+                    // compiler vectorises in the AVX2 build): the kernel, the artificial
+                    // viscosity and the artificial stress factor.
+                    let slots = (&mut gs[..k], &mut ws[..k], &mut ps[..k], &mut fs[..k]);
+                    let art_pairs = art_on.then_some(art);
+                    #[cfg(target_arch = "x86_64")]
+                    if avx2 {
+                        // SAFETY: the CPU has AVX2 (`has_avx2`).
+                        unsafe { pair_kernels_avx2(kernel, art_pairs, &cst, slots) };
+                    } else {
+                        pair_kernels(kernel, art_pairs, &cst, slots);
+                    }
+                    #[cfg(not(target_arch = "x86_64"))]
+                    pair_kernels(kernel, art_pairs, &cst, slots);
                     let mut kin = Kinematics::default();
                     let mut hess = Mat2::zeros();
-                    for ((j, g), w) in js[..k].iter().zip(&mut gs[..k]).zip(&mut ws[..k]) {
-                        let xij = *g;
-                        let r2 = *w;
-                        let r = r2.sqrt();
-                        let (wv, dw_r) = kernel.w_and_dw_over_r(r);
-                        let grad = xij * dw_r;
-                        *g = grad;
-                        *w = wv;
+                    for (j, grad) in js[..k].iter().zip(&gs[..k]) {
                         let rj = &rec[*j as usize];
-                        kin.add_pair(&Vec2::new(vxi - rj.vx, vyi - rj.vy), &grad, rj.vol);
+                        kin.add_pair(&Vec2::new(vxi - rj.vx, vyi - rj.vy), grad, rj.vol);
                         if HESS {
-                            hess += artificial::kernel_hessian(kernel, &xij, r2);
+                            let (dx, dy) = delta::<PERIODIC>(xi, yi, rj, l);
+                            let r2 = dx * dx + dy * dy;
+                            hess += artificial::kernel_hessian(kernel, &Vec2::new(dx, dy), r2);
                         }
                     }
                     *len = k as u32;
@@ -280,7 +356,6 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
             let (pairs, nlist) = (&self.pairs, &self.nlist);
             let l = self.p.domain.period_x.unwrap_or(0.0);
             let h = self.kernel.h();
-            let art = &self.art;
             let eta2 = MORRIS_ETA2 * h * h;
             let cst = PairConst {
                 alpha: p.alpha,
@@ -297,39 +372,32 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
                 .for_each(|(i, (acc_i, wall_i))| {
                     let ri = &rec[i];
                     let range = pairs.range(nlist, i);
-                    let (jj, gg, ww) = (
+                    let (jj, gg, pp, ff) = (
                         &pairs.j[range.clone()],
                         &pairs.grad[range.clone()],
-                        &pairs.w[range],
+                        &pairs.pi[range.clone()],
+                        &pairs.f[range],
                     );
                     // Ascending lists: fluid neighbours first, then virtual ones.
                     let split = jj.partition_point(|&j| (j as usize) < nf);
-                    let mut a = Vec2::zeros();
-                    for ((&j, &g), &w) in jj[..split].iter().zip(&gg[..split]).zip(&ww[..split]) {
-                        let (cx, cy) = pair_term::<PERIODIC, MORRIS, ART>(
-                            ri,
-                            &rec[j as usize],
-                            g,
-                            w,
-                            &cst,
-                            art,
-                        );
-                        a.x += cx;
-                        a.y += cy;
-                    }
-                    let mut aw = Vec2::zeros();
-                    for ((&j, &g), &w) in jj[split..].iter().zip(&gg[split..]).zip(&ww[split..]) {
-                        let (cx, cy) = pair_term::<PERIODIC, MORRIS, ART>(
-                            ri,
-                            &rec[j as usize],
-                            g,
-                            w,
-                            &cst,
-                            art,
-                        );
-                        aw.x += cx;
-                        aw.y += cy;
-                    }
+                    let sum = |from: usize, to: usize| {
+                        let mut a = Vec2::zeros();
+                        for k in from..to {
+                            let (cx, cy) = pair_term::<PERIODIC, MORRIS, ART>(
+                                ri,
+                                &rec[jj[k] as usize],
+                                gg[k],
+                                pp[k],
+                                ff[k],
+                                &cst,
+                            );
+                            a.x += cx;
+                            a.y += cy;
+                        }
+                        a
+                    };
+                    let a = sum(0, split);
+                    let aw = sum(split, jj.len());
                     *wall_i = aw * mass;
                     *acc_i = (a + aw) * mass + p.gravity;
                 });
@@ -341,5 +409,117 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
             report.wall_on_fluid += aw * mass;
         }
         report
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::ArtificialStressKind;
+    use crate::kernel::CubicSpline;
+    use rand::{Rng, SeedableRng};
+
+    /// Pairs at random separations across the support (including r = 0 and the skin, where the
+    /// kernel's outer piece divides by zero or the select drops it), random approach speeds
+    /// and densities: the array loop, portable and AVX2, gives bitwise the values of the
+    /// kernel and the operators called pair by pair.
+    #[test]
+    fn pair_loop_is_bitwise_the_pairwise_operators_portable_and_avx2() {
+        let dx = 0.01;
+        let kernel = CubicSpline::new(1.3 * dx);
+        let k = PairConst {
+            alpha: 0.3,
+            beta: 0.6,
+            c: 12.6,
+            h: kernel.h(),
+            eta2: 0.0,
+            l: 0.0,
+        };
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(16);
+        let n = 1003; // not a multiple of the vector width
+        let xij: Vec<Vec2> = (0..n)
+            .map(|s| {
+                if s == 0 {
+                    return Vec2::zeros();
+                }
+                let r = rng.gen_range(0.0..1.2 * kernel.radius());
+                let a: f64 = rng.gen_range(0.0..std::f64::consts::TAU);
+                Vec2::new(r * a.cos(), r * a.sin())
+            })
+            .collect();
+        let vij: Vec<Vec2> = (0..n)
+            .map(|_| Vec2::new(rng.gen_range(-2.0..2.0), rng.gen_range(-2.0..2.0)))
+            .collect();
+        let rho: Vec<f64> = (0..n).map(|_| rng.gen_range(950.0..1050.0)).collect();
+        for kind in [ArtificialStressKind::Fang, ArtificialStressKind::Ren] {
+            let art = ArtificialStress::new(&kernel, kind, 0.2, dx);
+            let fill = || {
+                (
+                    xij.clone(),
+                    xij.iter()
+                        .map(|x| x.x * x.x + x.y * x.y)
+                        .collect::<Vec<f64>>(),
+                    vij.iter()
+                        .zip(&xij)
+                        .map(|(v, x)| v.dot(x))
+                        .collect::<Vec<f64>>(),
+                    rho.clone(),
+                )
+            };
+            let (mut g, mut w, mut pi, mut f) = fill();
+            pair_kernels(&kernel, Some(&art), &k, (&mut g, &mut w, &mut pi, &mut f));
+            for s in 0..n {
+                let r2 = xij[s].norm_squared();
+                let (wv, dw_r) = (kernel.w(r2.sqrt()), kernel.dw_over_r(r2.sqrt()));
+                let pis =
+                    artificial::viscosity(k.alpha, k.beta, k.h, k.c, rho[s], &vij[s], &xij[s], r2);
+                assert_eq!(w[s].to_bits(), wv.to_bits(), "W, slot {s}");
+                if s > 0 {
+                    // At r = 0 the kernel gradient is 0 either way (x_ij = 0).
+                    assert_eq!(
+                        g[s].x.to_bits(),
+                        (xij[s].x * dw_r).to_bits(),
+                        "grad, slot {s}"
+                    );
+                    assert_eq!(
+                        g[s].y.to_bits(),
+                        (xij[s].y * dw_r).to_bits(),
+                        "grad, slot {s}"
+                    );
+                }
+                assert_eq!(pi[s].to_bits(), pis.to_bits(), "Pi, slot {s}");
+                if r2 < kernel.radius().powi(2) {
+                    assert_eq!(
+                        f[s].to_bits(),
+                        art.pair_factor(wv, r2).to_bits(),
+                        "f, slot {s}"
+                    );
+                }
+            }
+            assert!(pi.iter().any(|&p| p > 0.0) && f.iter().any(|&x| x > 0.0));
+            #[cfg(target_arch = "x86_64")]
+            if has_avx2() {
+                let (mut g2, mut w2, mut pi2, mut f2) = fill();
+                // SAFETY: the CPU has AVX2.
+                unsafe {
+                    pair_kernels_avx2(
+                        &kernel,
+                        Some(&art),
+                        &k,
+                        (&mut g2, &mut w2, &mut pi2, &mut f2),
+                    )
+                };
+                let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                let gbits = |v: &[Vec2]| {
+                    v.iter()
+                        .flat_map(|x| [x.x.to_bits(), x.y.to_bits()])
+                        .collect::<Vec<_>>()
+                };
+                assert_eq!(gbits(&g), gbits(&g2));
+                assert_eq!(bits(&w), bits(&w2));
+                assert_eq!(bits(&pi), bits(&pi2));
+                assert_eq!(bits(&f), bits(&f2));
+            }
+        }
     }
 }
