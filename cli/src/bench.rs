@@ -152,6 +152,23 @@ struct IsphRun {
     timings: viscosph::scheme::isph::IsphTimings,
 }
 
+impl IsphRun {
+    /// W* = W / (2 cm) at the last output (NaN without outputs).
+    fn w_star_end(&self) -> f64 {
+        self.series
+            .last()
+            .map_or(f64::NAN, |(_, o)| o.drop_width / 0.02)
+    }
+
+    /// The largest |volume_error| over the outputs.
+    fn max_volume_error(&self) -> f64 {
+        self.series
+            .iter()
+            .map(|(_, o)| o.volume_error.abs())
+            .fold(0.0, f64::max)
+    }
+}
+
 fn isph_run(cfg: &SceneConfig, t_star_end: f64) -> Result<IsphRun, Box<dyn std::error::Error>> {
     let ts = time_scale(cfg);
     let mut sim = Simulation::new(cfg.clone())?;
@@ -187,15 +204,7 @@ fn bench_isph(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::Err
                r: &IsphRun|
      -> std::fmt::Result {
         let n = r.steps.max(1) as f64;
-        let w_end = r
-            .series
-            .last()
-            .map_or(f64::NAN, |(_, o)| o.drop_width / 0.02);
-        let vmax = r
-            .series
-            .iter()
-            .map(|(_, o)| o.volume_error.abs())
-            .fold(0.0, f64::max);
+        let (w_end, vmax) = (r.w_star_end(), r.max_volume_error());
         let tot = r.timings.total.max(1e-12);
         writeln!(
             md,
@@ -318,15 +327,7 @@ fn cross_scheme(
     )?;
     let mut csv = String::from("scheme,other,max_abs_dw\n");
     for (label, r) in &runs {
-        let w_end = r
-            .series
-            .last()
-            .map_or(f64::NAN, |(_, o)| o.drop_width / 0.02);
-        let vmax = r
-            .series
-            .iter()
-            .map(|(_, o)| o.volume_error.abs())
-            .fold(0.0, f64::max);
+        let (w_end, vmax) = (r.w_star_end(), r.max_volume_error());
         write!(
             md,
             "| {label} | {} | {:.2} | {w_end:.3} | {:.2} % |",
