@@ -65,30 +65,10 @@ pub fn buffer_rows(cfg: &SceneConfig) -> i64 {
     support.ceil() as i64 + 2
 }
 
-/// What a jet gets for the keys a scene file leaves out, over the parameter table's defaults
-/// (which are Fang's drop): King & Lind 2021 section IV.D's Oldroyd-B jet, D = 6 mm,
-/// U0 = 0.2 m/s, nozzle 12 D above the plate, eta0 = 8.8 Pa s, rho = 1023 kg/m3 (Re = 0.14),
-/// beta = 0.2, lambda = 0.05 s (Wi = lambda U0 / D = 5/3), at 6 particles across (King & Lind:
-/// 20), about a minute to t* = 8 (0.97 s). Under WCSPH, not King & Lind's ISPH, for now: with
-/// its free surface at p = 0 (King & Lind's eq. (35a) is not in yet, docs/isph.md) the ISPH jet
-/// reaches the plate 30 % early, its Oldroyd-B column tears at the default step and breaks
-/// down at Wi >= 10/3, and no Newtonian ISPH jet buckled at 3-12 D (measured, docs/methods.md),
-/// while WCSPH buckles from 12 D and reproduces both of King & Lind's arrival trends.
-/// Written as a scene file and read through the table ([`SceneConfig::for_scene`]), so every
-/// value is checked against its row's range.
-pub const DEFAULTS: &str = "\
-scheme = \"wcsph\"
-rheology = \"oldroyd_b\"
-density = 1023.0
-viscosity = 8.8
-viscosity_ratio = 0.2
-relaxation_time = 0.05
-gravity = 9.81
-jet_width = 0.006
-jet_velocity = 0.2
-nozzle_height = 0.072
-particles_per_diameter = 6
-";
+/// What a jet gets for the keys a scene file leaves out: King & Lind's case (the text and the
+/// reasons are in [`crate::config::JET_DEFAULTS`], next to the parameter table they are read
+/// through, so that the configuration does not depend on the scenes).
+pub use crate::config::JET_DEFAULTS as DEFAULTS;
 
 /// The nozzle: where particles are held at the inflow state.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -47,8 +47,10 @@ def test_newtonian_drop_spreads_and_the_plate_carries_it(unzipdir, md):
     for n, v in r.items():
         assert np.all(np.isfinite(v)), n
     # The drop's bottom is W/2 above the plate: no contact before t* = 0.5 (less the kernel's
-    # reach), a force after it.
-    contact = r["wall_force_normal"] > 0
+    # reach), a force after it. "Contact" is a force above 1e-3 N/m: before any fluid is near,
+    # the implicit viscous solve's residual (tolerance 1e-8) leaves 1e-9..1e-7 N/m on the
+    # mirrors (the peak is about 50 N/m).
+    contact = r["wall_force_normal"] > 1e-3
     assert not contact[t < 0.35 * T_STAR].any()
     assert contact[t > 0.6 * T_STAR].all()
     # It spreads: width beyond 1.6 W by t* = 4 (King & Lind Fig. 10: W* near 2 at t* = 4), never
