@@ -1429,6 +1429,8 @@ fn bench_stability(
                     eprintln!("bench stability: {scheme} {rheo} De = {de} ...");
                     let o = classify(&c, t_star_end);
                     record(&mut csv, "deborah", &c, "De", de, &o);
+                    // Row by row, so a sweep of hours stopped early keeps what it measured.
+                    std::fs::write(out.join("stability.csv"), &csv)?;
                     row.push(o.as_ref().map(|o| o.stable));
                     match &o {
                         Some(o) if o.stable => {
@@ -1528,6 +1530,7 @@ fn bench_stability(
                 eprintln!("bench stability: {scheme} {name} = {v} ...");
                 let o = classify(&c, t_star_end);
                 record(&mut csv, name, &c, label, v, &o);
+                std::fs::write(out.join("stability.csv"), &csv)?;
                 row.push(o.as_ref().map(|o| o.stable));
                 let desc = match &o {
                     Some(o) if o.stable => "stable".to_string(),
