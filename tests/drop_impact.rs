@@ -5,8 +5,8 @@
 mod common;
 
 use common::{
-    assert_impulse_matches, assert_spreads_monotonically, i, integrate_wall_force, r, s, series,
-    series_bits,
+    assert_impulse_matches, assert_outputs_finite, assert_spreads_monotonically, i,
+    integrate_wall_force, r, s, series, series_bits,
 };
 use viscosph::config::{SceneConfig, Value};
 use viscosph::simulation::{SimError, Simulation};
@@ -108,9 +108,7 @@ fn oldroyd_b_without_artificial_stress_reports_fracture() {
         }
         other => panic!("{other:?}"),
     }
-    assert!(ser
-        .iter()
-        .all(|(_, o)| o.values().iter().all(|v| v.is_finite())));
+    assert_outputs_finite(&ser);
 }
 
 #[test]

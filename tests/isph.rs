@@ -5,8 +5,8 @@
 mod common;
 
 use common::{
-    assert_impulse_matches, assert_spreads_monotonically, i, integrate_wall_force, r, s, series,
-    series_bits,
+    assert_impulse_matches, assert_outputs_finite, assert_spreads_monotonically, i,
+    integrate_wall_force, r, s, series, series_bits,
 };
 use viscosph::config::{SceneConfig, Value};
 use viscosph::simulation::Simulation;
@@ -43,9 +43,7 @@ fn newtonian_drop_spreads_monotonically() {
     let last = ser.last().unwrap().1;
     let w_end = last.drop_width / W;
     assert!((1.9..2.6).contains(&w_end), "W*(8) = {w_end}");
-    assert!(ser
-        .iter()
-        .all(|(_, o)| o.values().iter().all(|v| v.is_finite())));
+    assert_outputs_finite(&ser);
 }
 
 /// The density-invariant PPE source holds the drop's covered area (geometric volume_error) at

@@ -12,7 +12,7 @@
 pub mod channel;
 pub mod jet;
 
-use crate::io::plot::{line_panels, status_grid, Panel, Series};
+use crate::io::plot::{line_panels, panel_grid, status_grid, Panel, Series};
 use crate::run::{run, time_scale, RunOptions};
 use clap::{Args, Subcommand};
 use std::fmt::Write as _;
@@ -958,17 +958,12 @@ fn plot_accuracy(out: &Path, points: &[AccuracyPoint]) -> Result<(), Box<dyn std
             }
         })
         .collect();
-    if !panels.is_empty() {
-        line_panels(
-            &out.join("accuracy.png"),
-            &panels,
-            panels.len().min(3),
-            (
-                600 * panels.len().min(3) as u32,
-                500 * panels.len().div_ceil(3) as u32,
-            ),
-        )?;
-    }
+    panel_grid(
+        &out.join("accuracy.png"),
+        &panels,
+        panels.len().min(3),
+        (600, 500),
+    )?;
     Ok(())
 }
 

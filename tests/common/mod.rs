@@ -88,3 +88,13 @@ pub fn assert_impulse_matches(
         "normal {int_n} vs {want_n} ({en:+.4}), tangential {int_t} vs {want_t} ({et:+.4})"
     );
 }
+
+/// Every output of every recorded row is finite.
+pub fn assert_outputs_finite(ser: &[(f64, Outputs)]) {
+    for (t, o) in ser {
+        assert!(
+            o.values().iter().all(|v| v.is_finite()),
+            "non-finite output at t = {t}: {o:?}"
+        );
+    }
+}

@@ -35,7 +35,7 @@
 //! frames) is adding a line there.
 
 use crate::bench::{case, machine_description};
-use crate::io::plot::{line_panels, Panel, Series};
+use crate::io::plot::{line_panels, panel_grid, Panel, Series};
 use clap::{Args, ValueEnum};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -758,15 +758,12 @@ fn wi_sweeps(out: &Path, quick: bool, full: bool, figure: Option<u8>) -> BenchRe
     }
     std::fs::write(out.join("channel_wi.csv"), csv)?;
     std::fs::write(out.join("channel_wi_series.csv"), hist)?;
-    if !panels.is_empty() {
-        let cols = sweep_variants().len().max(1);
-        line_panels(
-            &out.join("channel_wi.png"),
-            &panels,
-            cols,
-            (700 * cols as u32, 600 * panels.len().div_ceil(cols) as u32),
-        )?;
-    }
+    panel_grid(
+        &out.join("channel_wi.png"),
+        &panels,
+        sweep_variants().len(),
+        (700, 600),
+    )?;
     Ok(md)
 }
 
@@ -937,17 +934,12 @@ fn nonlinear(out: &Path, quick: bool, full: bool) -> BenchResult<String> {
     }
     std::fs::write(out.join("channel_nonlinear.csv"), csv)?;
     std::fs::write(out.join("channel_nonlinear_profiles.csv"), prof)?;
-    if !panels.is_empty() {
-        line_panels(
-            &out.join("channel_nonlinear.png"),
-            &panels,
-            panels.len().min(2),
-            (
-                800 * panels.len().min(2) as u32,
-                800 * panels.len().div_ceil(2) as u32,
-            ),
-        )?;
-    }
+    panel_grid(
+        &out.join("channel_nonlinear.png"),
+        &panels,
+        panels.len().min(2),
+        (800, 800),
+    )?;
     Ok(md)
 }
 

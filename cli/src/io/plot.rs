@@ -130,6 +130,17 @@ fn legend_corner(panel: &Panel, xs: (f64, f64), ys: (f64, f64)) -> SeriesLabelPo
     }
 }
 
+/// [`line_panels`] on a grid of `cols` columns whose cells are `cell` pixels each; nothing is
+/// drawn when there are no panels (a benchmark part that ran no case).
+pub fn panel_grid(path: &Path, panels: &[Panel], cols: usize, cell: (u32, u32)) -> PlotResult {
+    if panels.is_empty() {
+        return Ok(());
+    }
+    let cols = cols.max(1);
+    let rows = panels.len().div_ceil(cols) as u32;
+    line_panels(path, panels, cols, (cell.0 * cols as u32, cell.1 * rows))
+}
+
 /// Panels side by side (in a grid of `cols` columns) in one PNG.
 pub fn line_panels(path: &Path, panels: &[Panel], cols: usize, size: (u32, u32)) -> PlotResult {
     let root = BitMapBackend::new(path, size).into_drawing_area();
