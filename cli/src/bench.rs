@@ -4,7 +4,8 @@
 //!   diameter: wall time, steps, particle-steps per second, and the largest difference of W*(t*)
 //!   from the finest run.
 //! * `throughput`: particle-steps per second of the Newtonian and Oldroyd-B drop on 1 and 2
-//!   threads at about 10^3, 10^4 and 10^5 particles, and the Oldroyd-B / Newtonian cost ratio.
+//!   threads at about 10^3, 10^4, 10^5 and (Newtonian only, 6 steps) 10^6 particles, the CPU
+//!   time and peak RSS per particle, and the Oldroyd-B / Newtonian cost ratio.
 //!
 //! A case is a named [`SceneConfig`]; adding a scheme or a scene to a benchmark is adding a line to
 //! its case list.
@@ -38,7 +39,7 @@ pub struct BenchArgs {
 pub enum BenchKind {
     /// Fang's drops at 20/40/80 particles per diameter: cost and convergence of W*(t*).
     Drop,
-    /// Particle-steps per second on 1 and 2 threads at 10^3..10^5 particles.
+    /// Particle-steps per second on 1 and 2 threads at 10^3..10^6 particles, FMU overhead.
     Throughput,
     /// Stability maps: sweeps of De, beta, inclination, impact velocity and resolution.
     Stability(StabilityArgs),

@@ -196,42 +196,37 @@ impl ArtificialStress {
         }
     }
 
-    /// [`Self::pair_factor`] over arrays: `w` the kernel values, `r2_f` r^2 on entry and
-    /// f_ij^n on exit. The choice of kind is made once, so Fang's loop (pure arithmetic)
-    /// vectorises; the values are those of `pair_factor`, bit for bit.
+    /// Whether the pair factor is Fang's (a function of W alone) rather than Ren's (a table of
+    /// r): the hot pair loop picks its variant once, outside the loop, so Fang's (pure
+    /// arithmetic) vectorises.
+    #[inline]
+    pub fn is_fang(&self) -> bool {
+        self.kind == ArtificialStressKind::Fang
+    }
+
+    /// Fang's f_ij^n = (W_ij / W(d0))^n, n = 4 (Fang 2006 eq. 39), from the kernel value `w`.
     #[inline(always)]
-    pub fn pair_factors(&self, w: &[f64], r2_f: &mut [f64]) {
-        match self.kind {
-            ArtificialStressKind::Fang => {
-                for (f, &w) in r2_f.iter_mut().zip(w) {
-                    let x = w * self.inv_w_d0;
-                    let x2 = x * x;
-                    *f = x2 * x2;
-                }
-            }
-            ArtificialStressKind::Ren => {
-                for (f, &w) in r2_f.iter_mut().zip(w) {
-                    *f = self.pair_factor(w, *f);
-                }
-            }
-        }
+    pub fn fang_pair_factor(&self, w: f64) -> f64 {
+        let f = w * self.inv_w_d0;
+        let f2 = f * f;
+        f2 * f2
+    }
+
+    /// Ren's f_ij^n (Ren 2015 eq. 20a), tabulated in r, from the squared distance `r2`.
+    #[inline(always)]
+    pub fn ren_pair_factor(&self, r2: f64) -> f64 {
+        let x = r2.sqrt() * self.per_r;
+        let k = (x as usize).min(REN_TABLE - 1);
+        let t = x - k as f64;
+        self.table[k] + (self.table[k + 1] - self.table[k]) * t
     }
 
     /// f_ij^n for a pair with kernel value `w` at squared distance `r2` (inside the support).
     #[inline]
     pub fn pair_factor(&self, w: f64, r2: f64) -> f64 {
         match self.kind {
-            ArtificialStressKind::Fang => {
-                let f = w * self.inv_w_d0;
-                let f2 = f * f;
-                f2 * f2
-            }
-            ArtificialStressKind::Ren => {
-                let x = r2.sqrt() * self.per_r;
-                let k = (x as usize).min(REN_TABLE - 1);
-                let t = x - k as f64;
-                self.table[k] + (self.table[k + 1] - self.table[k]) * t
-            }
+            ArtificialStressKind::Fang => self.fang_pair_factor(w),
+            ArtificialStressKind::Ren => self.ren_pair_factor(r2),
         }
     }
 }

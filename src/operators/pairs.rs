@@ -1,5 +1,5 @@
 //! Kernel values of the pairs inside the support, aligned with a CSR neighbour list: neighbour
-//! index, grad_i W_ij, W_ij, the artificial viscosity and the artificial stress factor, computed once per rate evaluation and read by the later passes
+//! index, grad_i W_ij, the artificial viscosity and the artificial stress factor, computed once per rate evaluation and read by the later passes
 //! (SPHinXsys's habit of caching W and grad W once per stage). Particle i's slots start at the
 //! list's offset of i; `len[i]` of them are used (the rest of i's list lies in the skin).
 
@@ -10,7 +10,6 @@ use crate::Vec2;
 pub struct PairCache {
     pub j: Vec<u32>,
     pub grad: Vec<Vec2>,
-    pub w: Vec<f64>,
     /// The artificial viscosity Pi_ij (Fang 2006 eqs. 31-33): it depends only on positions,
     /// velocities and densities, all known in the first pass.
     pub pi: Vec<f64>,
@@ -25,7 +24,6 @@ impl PairCache {
         let n = list.pairs();
         self.j.resize(n, 0);
         self.grad.resize(n, Vec2::zeros());
-        self.w.resize(n, 0.0);
         self.pi.resize(n, 0.0);
         self.f.resize(n, 0.0);
         self.len.resize(list.len(), 0);

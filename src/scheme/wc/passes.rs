@@ -109,29 +109,28 @@ fn pair_term<const PERIODIC: bool, const MORRIS: bool, const ART: bool>(
 }
 
 /// Pass 1's per-slot arithmetic over one particle's compacted pairs: on entry `g` holds x_ij,
-/// `w` r^2, `pi` v_ij . x_ij and `f` the mean density; on exit grad_i W_ij, W_ij, Pi_ij
-/// (Fang 2006 eqs. 31-33) and f_ij^n (eq. 39; 0 without artificial stress, `ART`). Element by element,
-/// the operations of the kernel and of [`artificial::viscosity`], so the values are bitwise
-/// those computed pair by pair.
+/// `pi` v_ij . x_ij and `f` the mean density; on exit grad_i W_ij, Pi_ij (Fang 2006 eqs. 31-33)
+/// and f_ij^n = `factor(W_ij, r^2)` (eq. 39; r^2 itself without artificial stress). r^2 is
+/// recomputed from x_ij by the compaction's own expression, so W needs no array of its own
+/// (nothing after this loop reads it): one stream fewer per pair in the pair cache. Element by
+/// element the operations of the kernel and of [`artificial::viscosity`], so the values are
+/// bitwise those computed pair by pair.
 #[inline(always)]
-fn pair_kernels<K: Kernel>(
+fn pair_kernels<K: Kernel, F: Fn(f64, f64) -> f64>(
     kernel: &K,
-    art: Option<&ArtificialStress>,
+    factor: F,
     k: &PairConst,
-    (g, w, pi, f): (&mut [Vec2], &mut [f64], &mut [f64], &mut [f64]),
+    (g, pi, f): (&mut [Vec2], &mut [f64], &mut [f64]),
 ) {
-    let n = g.len().min(w.len()).min(pi.len()).min(f.len());
-    let (g, w, pi, f) = (&mut g[..n], &mut w[..n], &mut pi[..n], &mut f[..n]);
+    let n = g.len().min(pi.len()).min(f.len());
+    let (g, pi, f) = (&mut g[..n], &mut pi[..n], &mut f[..n]);
     for s in 0..n {
-        let r2 = w[s];
+        let (dx, dy) = (g[s].x, g[s].y);
+        let r2 = dx * dx + dy * dy;
         let (wv, dw_r) = kernel.w_and_dw_over_r(r2.sqrt());
         g[s] *= dw_r;
-        w[s] = wv;
         pi[s] = artificial::viscosity_of_dot(k.alpha, k.beta, k.h, k.c, f[s], pi[s], r2);
-        f[s] = r2;
-    }
-    if let Some(art) = art {
-        art.pair_factors(w, f);
+        f[s] = factor(wv, r2);
     }
 }
 
@@ -144,13 +143,47 @@ fn pair_kernels<K: Kernel>(
 /// Only on a CPU with AVX2 (checked once per pass by the caller).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn pair_kernels_avx2<K: Kernel>(
+unsafe fn pair_kernels_avx2<K: Kernel, F: Fn(f64, f64) -> f64>(
+    kernel: &K,
+    factor: F,
+    k: &PairConst,
+    slots: (&mut [Vec2], &mut [f64], &mut [f64]),
+) {
+    pair_kernels(kernel, factor, k, slots)
+}
+
+/// [`pair_kernels`] with the artificial stress factor of `art` (None: off), in the AVX2 build
+/// when `avx2` (the CPU has it), else the portable one. The choices are made here, once per
+/// particle, so that each loop is straight.
+#[inline(always)]
+fn pair_kernels_dispatch<K: Kernel>(
     kernel: &K,
     art: Option<&ArtificialStress>,
     k: &PairConst,
-    slots: (&mut [Vec2], &mut [f64], &mut [f64], &mut [f64]),
+    slots: (&mut [Vec2], &mut [f64], &mut [f64]),
+    avx2: bool,
 ) {
-    pair_kernels(kernel, art, k, slots)
+    macro_rules! run {
+        ($factor:expr) => {{
+            #[cfg(target_arch = "x86_64")]
+            if avx2 {
+                // SAFETY: the caller checked that the CPU has AVX2 (`has_avx2`).
+                unsafe { pair_kernels_avx2(kernel, $factor, k, slots) }
+            } else {
+                pair_kernels(kernel, $factor, k, slots)
+            }
+            #[cfg(not(target_arch = "x86_64"))]
+            {
+                let _ = avx2;
+                pair_kernels(kernel, $factor, k, slots)
+            }
+        }};
+    }
+    match art {
+        None => run!(|_w: f64, r2: f64| r2),
+        Some(a) if a.is_fang() => run!(|w: f64, _r2: f64| a.fang_pair_factor(w)),
+        Some(a) => run!(|_w: f64, r2: f64| a.ren_pair_factor(r2)),
+    }
 }
 
 /// Whether this CPU runs the AVX2 build of the pair loops.
@@ -239,11 +272,10 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
         let avx2 = has_avx2();
         let js = nlist.split_mut(&mut self.pairs.j);
         let gs = nlist.split_mut(&mut self.pairs.grad);
-        let ws = nlist.split_mut(&mut self.pairs.w);
         let ps = nlist.split_mut(&mut self.pairs.pi);
         let fs = nlist.split_mut(&mut self.pairs.f);
         (
-            (js, gs, ws, ps, fs),
+            (js, gs, ps, fs),
             &mut self.pairs.len[..],
             &mut self.kappa[..],
             &mut self.drho[..],
@@ -256,10 +288,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
             .with_min_len(MIN_TASK)
             .enumerate()
             .for_each(
-                |(
-                    i,
-                    ((js, gs, ws, ps, fs), len, kappa_i, drho_i, sigma_i, art_i, hess_i, mu_i),
-                )| {
+                |(i, ((js, gs, ps, fs), len, kappa_i, drho_i, sigma_i, art_i, hess_i, mu_i))| {
                     let ri = &rec[i];
                     let (xi, yi, vxi, vyi) = (ri.x, ri.y, ri.vx, ri.vy);
                     // Compact the candidates inside the support (other than i) to the front of
@@ -274,7 +303,6 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
                         let xij = Vec2::new(dx, dy);
                         js[k] = j;
                         gs[k] = xij;
-                        ws[k] = r2;
                         ps[k] = Vec2::new(vxi - rj.vx, vyi - rj.vy).dot(&xij);
                         fs[k] = 0.5 * (ri.rho + rj.rho);
                         k += ((r2 < r2max) & (j as usize != i)) as usize;
@@ -282,17 +310,8 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
                     // Then, slot by slot with no neighbour data and no branch (a loop the
                     // compiler vectorises in the AVX2 build): the kernel, the artificial
                     // viscosity and the artificial stress factor.
-                    let slots = (&mut gs[..k], &mut ws[..k], &mut ps[..k], &mut fs[..k]);
-                    let art_pairs = art_on.then_some(art);
-                    #[cfg(target_arch = "x86_64")]
-                    if avx2 {
-                        // SAFETY: the CPU has AVX2 (`has_avx2`).
-                        unsafe { pair_kernels_avx2(kernel, art_pairs, &cst, slots) };
-                    } else {
-                        pair_kernels(kernel, art_pairs, &cst, slots);
-                    }
-                    #[cfg(not(target_arch = "x86_64"))]
-                    pair_kernels(kernel, art_pairs, &cst, slots);
+                    let slots = (&mut gs[..k], &mut ps[..k], &mut fs[..k]);
+                    pair_kernels_dispatch(kernel, art_on.then_some(art), &cst, slots, avx2);
                     let mut kin = Kinematics::default();
                     let mut hess = Mat2::zeros();
                     for (j, grad) in js[..k].iter().zip(&gs[..k]) {
@@ -456,9 +475,6 @@ mod tests {
             let fill = || {
                 (
                     xij.clone(),
-                    xij.iter()
-                        .map(|x| x.x * x.x + x.y * x.y)
-                        .collect::<Vec<f64>>(),
                     vij.iter()
                         .zip(&xij)
                         .map(|(v, x)| v.dot(x))
@@ -466,14 +482,13 @@ mod tests {
                     rho.clone(),
                 )
             };
-            let (mut g, mut w, mut pi, mut f) = fill();
-            pair_kernels(&kernel, Some(&art), &k, (&mut g, &mut w, &mut pi, &mut f));
+            let (mut g, mut pi, mut f) = fill();
+            pair_kernels_dispatch(&kernel, Some(&art), &k, (&mut g, &mut pi, &mut f), false);
             for s in 0..n {
                 let r2 = xij[s].norm_squared();
                 let (wv, dw_r) = (kernel.w(r2.sqrt()), kernel.dw_over_r(r2.sqrt()));
                 let pis =
                     artificial::viscosity(k.alpha, k.beta, k.h, k.c, rho[s], &vij[s], &xij[s], r2);
-                assert_eq!(w[s].to_bits(), wv.to_bits(), "W, slot {s}");
                 if s > 0 {
                     // At r = 0 the kernel gradient is 0 either way (x_ij = 0).
                     assert_eq!(
@@ -497,18 +512,16 @@ mod tests {
                 }
             }
             assert!(pi.iter().any(|&p| p > 0.0) && f.iter().any(|&x| x > 0.0));
-            #[cfg(target_arch = "x86_64")]
+            // Without artificial stress f carries r^2 (read by nothing, but defined).
+            let (mut g0, mut pi0, mut f0) = fill();
+            pair_kernels_dispatch(&kernel, None, &k, (&mut g0, &mut pi0, &mut f0), false);
+            for s in 0..n {
+                assert_eq!(f0[s].to_bits(), xij[s].norm_squared().to_bits());
+                assert_eq!(pi0[s].to_bits(), pi[s].to_bits());
+            }
             if has_avx2() {
-                let (mut g2, mut w2, mut pi2, mut f2) = fill();
-                // SAFETY: the CPU has AVX2.
-                unsafe {
-                    pair_kernels_avx2(
-                        &kernel,
-                        Some(&art),
-                        &k,
-                        (&mut g2, &mut w2, &mut pi2, &mut f2),
-                    )
-                };
+                let (mut g2, mut pi2, mut f2) = fill();
+                pair_kernels_dispatch(&kernel, Some(&art), &k, (&mut g2, &mut pi2, &mut f2), true);
                 let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
                 let gbits = |v: &[Vec2]| {
                     v.iter()
@@ -516,7 +529,6 @@ mod tests {
                         .collect::<Vec<_>>()
                 };
                 assert_eq!(gbits(&g), gbits(&g2));
-                assert_eq!(bits(&w), bits(&w2));
                 assert_eq!(bits(&pi), bits(&pi2));
                 assert_eq!(bits(&f), bits(&f2));
             }
