@@ -42,6 +42,30 @@
 //!   the solve changed, which by the symmetry of the fluid-fluid coefficients is the mirrors'
 //!   part exactly. `explicit` is the paper's (24) with (28) as printed (with eta0 = the total
 //!   viscosity, plus EVSS's alpha_V eta0).
+//! * **Low solvent viscosity: an EVSS floor.** The compact (Morris) Laplacian carries at least
+//!   [`MIN_COMPACT_VISCOSITY_RATIO`] = 0.1 of eta0: when beta eta0 + alpha_V eta0 is less,
+//!   alpha_V is raised ([`isph_evss_alpha`]). EVSS (King & Lind eqs. (6)-(8)) is an identity of
+//!   the continuous equations, so this changes the discretisation, not the fluid. Cause,
+//!   measured on the UCM drop (beta = 0, De = 0.1, Re = 4): with no solvent, every viscous
+//!   stress goes through the positive-form divergence of the corrected gradients, a wide stencil
+//!   that does not see grid-scale modes, and the impact's velocity jump excites them unchecked:
+//!   the conformation blew up at t* = 1.5 (W/dr = 40), and a third of the step did not help
+//!   (W/dr = 20), so it is not a time-step limit. King & Lind need EVSS for beta = 0 (alpha_V =
+//!   0.01 in the channel) and report beta = 0.05 as the drop's lowest stable value. alpha_V eta0
+//!   = 0.01 eta0 still splashed at impact (W/dr = 20 and 40); 0.1 eta0 spreads like the
+//!   Oldroyd-B drop at beta = 0.1 (W*(8) = 1.95 at W/dr = 40, eta0 = 4). Larger alpha_V is
+//!   worse: EVSS's explicit part, the wide operator on alpha_V eta0 2D, is not cancelled by
+//!   the implicit compact one near the free surface and in a disordered set, and with
+//!   alpha_V = (1 - beta) the UCM drop (De = 1, W/dr = 40) blew up in flight, before impact
+//!   (t* = 0.42 with the step limit below, 0.62 without; tr A should stay 2 in flight), at
+//!   De = 0.1 and W/dr = 20 it ran; 0.2 and 0.3 broke at impact like 0.1 (De = 1,
+//!   W/dr = 40). UCM at De = 1 is beyond this floor at W/dr = 40 (the stability map in
+//!   docs/benchmarks.md).
+//! * **EVSS's explicit part limits the implicit step**: `rho h^2 / (alpha_V eta0)`, the explicit
+//!   viscous limit of the wide operator on alpha_V eta0 2D. Without it alpha_V eta0 went
+//!   through the implicit solve but its explicit counterpart ran at nu alpha dt / h^2 = 1.2
+//!   (UCM, De = 0.1, W/dr = 40; that run broke at t* = 1.1). At the floor's 0.1 eta0 the limit
+//!   does not bind at W/dr = 40 (it is 2.3 times the elastic step there).
 //! * **Time step** (28) with the coefficient 2/3 `time_step_factor` (0.2 at the default), plus
 //!   `sqrt(h / |g|)` so a fluid at rest still has a finite step.
 //! * Kernel: the quintic spline, h = 1.3 dx (`smoothing_ratio` is ignored). No equation of state,
