@@ -278,11 +278,11 @@ fn every_rheology_spreads_the_drop() {
 /// At low De the polymer relaxes faster than the flow deforms it, so Oldroyd-B (beta = 0.1) and
 /// UCM (beta = 0) at De = 0.1 (lambda = 2 ms) must both run through the impact and behave like
 /// a viscous liquid of viscosity eta0. UCM broke at impact before ISPH raised alpha_V so that
-/// the compact Laplacian carries 0.1 eta0 (`MIN_COMPACT_VISCOSITY_RATIO`) and limited the step
+/// the compact Laplacian carries 0.05 eta0 (`MIN_COMPACT_VISCOSITY_RATIO`) and limited the step
 /// by EVSS's explicit part. Tolerances, measured at W/dr = 20 over t* <= 4: UCM against
-/// Oldroyd-B 0.7 % (2 % allowed: the two differ by beta = 0.1 of the viscosity, in the
+/// Oldroyd-B 1.3 % (2 % allowed: the two differ by beta = 0.1 of the viscosity, in the
 /// Laplacian either way); each against the Newtonian drop of the same eta0 at a comparable step
-/// (time_step_factor 0.1) 8.4 % and 8.7 % (10 % allowed). That gap is not elasticity (Oldroyd-B at
+/// (time_step_factor 0.1) 8.4 % and 9.4 % (10 % allowed). That gap is not elasticity (Oldroyd-B at
 /// De = 0.01 spreads within 0.5 % of De = 0.1): the polymer's viscous stress goes through the
 /// positive-form divergence of the corrected gradients, the Newtonian one through Morris'
 /// Laplacian, and the two treat the free surface differently (docs/isph.md, "Low solvent
@@ -339,19 +339,21 @@ fn low_deborah_drops_spread_like_the_viscous_drop() {
     );
 }
 
-/// ISPH's EVSS scale: unchanged where the solvent carries 0.1 eta0 or more (so the default
-/// Oldroyd-B drop, beta = 0.1, is bitwise what it was), raised to make up 0.1 eta0 below.
+/// ISPH's EVSS scale: unchanged where the solvent carries 0.05 eta0 or more (so the default
+/// Oldroyd-B drop, beta = 0.1, and King & Lind's lowest beta, 0.05, are bitwise what they were),
+/// raised to make up 0.05 eta0 below.
 #[test]
-fn evss_is_raised_only_below_a_tenth_of_the_viscosity() {
+fn evss_is_raised_only_below_a_twentieth_of_the_viscosity() {
     use viscosph::rheology::{OldroydB, Rheology};
     use viscosph::scheme::isph::isph_evss_alpha;
-    assert_eq!(isph_evss_alpha(&OldroydB::new(5.0, 0.1, 0.02), 0.0), 0.0);
-    assert_eq!(isph_evss_alpha(&OldroydB::new(5.0, 0.5, 0.02), 0.0), 0.0);
+    for beta in [0.05, 0.1, 0.5] {
+        assert_eq!(isph_evss_alpha(&OldroydB::new(5.0, beta, 0.02), 0.0), 0.0);
+    }
     let ucm = OldroydB::new(5.0, 0.0, 0.02);
     let a = isph_evss_alpha(&ucm, 0.0);
-    assert!((a * ucm.polymer_viscosity() - 0.5).abs() < 1e-12, "{a}");
+    assert!((a * ucm.polymer_viscosity() - 0.25).abs() < 1e-12, "{a}");
     assert_eq!(isph_evss_alpha(&ucm, 0.3), 0.3);
-    let b = OldroydB::new(5.0, 0.05, 0.02);
+    let b = OldroydB::new(5.0, 0.02, 0.02);
     let a = isph_evss_alpha(&b, 0.0);
-    assert!((a * b.polymer_viscosity() - 0.25).abs() < 1e-12, "{a}");
+    assert!((a * b.polymer_viscosity() - 0.15).abs() < 1e-12, "{a}");
 }
