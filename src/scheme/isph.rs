@@ -42,9 +42,10 @@
 //!   the solve changed, which by the symmetry of the fluid-fluid coefficients is the mirrors'
 //!   part exactly. `explicit` is the paper's (24) with (28) as printed (with eta0 = the total
 //!   viscosity, plus EVSS's alpha_V eta0).
-//! * **Low solvent viscosity: an EVSS floor.** The compact (Morris) Laplacian carries at least
-//!   [`MIN_COMPACT_VISCOSITY_RATIO`] = 0.05 of eta0: when beta eta0 + alpha_V eta0 is less,
-//!   alpha_V is raised ([`isph_evss_alpha`]). EVSS (King & Lind eqs. (6)-(8)) is an identity of
+//! * **Low solvent viscosity: an EVSS floor.** With a free surface the compact (Morris)
+//!   Laplacian carries at least [`MIN_COMPACT_VISCOSITY_RATIO`] = 0.05 of eta0: when
+//!   beta eta0 + alpha_V eta0 is less, alpha_V is raised ([`isph_evss_alpha`]; the closed
+//!   channel keeps the configured alpha_V). EVSS (King & Lind eqs. (6)-(8)) is an identity of
 //!   the continuous equations, so this changes the discretisation, not the fluid. Cause,
 //!   measured on the UCM drop (beta = 0, De = 0.1, Re = 4): with no solvent, every viscous
 //!   stress goes through the positive-form divergence of the corrected gradients, a wide stencil
@@ -211,14 +212,21 @@ impl<R: Rheology> Isph<R> {
     /// initial state.
     pub fn new(model: R, p: Params, cfg: &SceneConfig, plates: &[Plate]) -> Self {
         let kernel = QuinticSpline::new(H_OVER_DX * p.dx);
-        let evss = Evss::new(&model, isph_evss_alpha(&model, p.evss_alpha));
+        // The EVSS floor was measured on drops; the closed channel keeps the configured
+        // alpha_V (King & Lind's beta = 0 channel uses alpha_V = 0.01).
+        let free_surface = cfg.scene != crate::config::Scene::Channel;
+        let evss_alpha = if free_surface {
+            isph_evss_alpha(&model, p.evss_alpha)
+        } else {
+            p.evss_alpha
+        };
+        let evss = Evss::new(&model, evss_alpha);
         let method = match cfg.conformation_method {
             ConformationMethod::Auto => ConformationMethod::Log,
             m => m,
         };
         let reach = kernel.radius();
         let c_lattice = lattice_concentration(&kernel, p.dx);
-        let free_surface = cfg.scene != crate::config::Scene::Channel;
         let frame_dt = if !free_surface && cfg.isph_frame == IsphFrame::Lagrangian {
             LAGRANGIAN_CHANNEL_DT
         } else {
@@ -290,9 +298,11 @@ impl<R: Rheology> Isph<R> {
     }
 }
 
-/// The EVSS scale `evss_alpha` (alpha_V / (1 - beta)) ISPH uses: the configured one, raised so
-/// that the Laplacian carries at least [`MIN_COMPACT_VISCOSITY_RATIO`] of eta0. Inelastic models
-/// (no polymer viscosity) keep theirs.
+/// The EVSS scale `evss_alpha` (alpha_V / (1 - beta)) ISPH uses in a scene with a free surface:
+/// the configured one, raised so that the Laplacian carries at least
+/// [`MIN_COMPACT_VISCOSITY_RATIO`] of eta0. Inelastic models (no polymer viscosity) keep theirs;
+/// so does the closed channel (not measured there; King & Lind run its beta = 0 case with
+/// alpha_V = 0.01).
 pub fn isph_evss_alpha<R: Rheology>(model: &R, evss_alpha: f64) -> f64 {
     let eta_p = model.polymer_viscosity();
     if !R::ELASTIC || eta_p <= 0.0 {
