@@ -274,3 +274,86 @@ fn every_rheology_spreads_the_drop() {
         );
     }
 }
+
+/// At low De the polymer relaxes faster than the flow deforms it, so Oldroyd-B (beta = 0.1) and
+/// UCM (beta = 0) at De = 0.1 (lambda = 2 ms) must both run through the impact and behave like
+/// a viscous liquid of viscosity eta0. UCM broke at impact before ISPH raised alpha_V so that
+/// the compact Laplacian carries 0.05 eta0 (`MIN_COMPACT_VISCOSITY_RATIO`) and limited the step
+/// by EVSS's explicit part. Tolerances, measured at W/dr = 20 over t* <= 4: UCM against
+/// Oldroyd-B 1.3 % (2 % allowed: the two differ by beta = 0.1 of the viscosity, in the
+/// Laplacian either way); each against the Newtonian drop of the same eta0 at a comparable step
+/// (time_step_factor 0.1) 8.4 % and 9.4 % (10 % allowed). That gap is not elasticity (Oldroyd-B at
+/// De = 0.01 spreads within 0.5 % of De = 0.1): the polymer's viscous stress goes through the
+/// positive-form divergence of the corrected gradients, the Newtonian one through Morris'
+/// Laplacian, and the two treat the free surface differently (docs/isph.md, "Low solvent
+/// viscosity").
+#[test]
+fn low_deborah_drops_spread_like_the_viscous_drop() {
+    let t_end = 4.0 * T_STAR;
+    let width = |pairs: &[(&str, Value)]| {
+        let (ser, err, _) = series(&cfg(pairs), t_end, 0.4 * T_STAR);
+        assert!(err.is_none(), "{pairs:?}: {err:?}");
+        assert_outputs_finite(&ser);
+        assert!(
+            ser.iter().all(|(_, o)| o.min_conformation_det > 0.0),
+            "{pairs:?}"
+        );
+        ser.iter()
+            .map(|(_, o)| o.drop_width / W)
+            .collect::<Vec<_>>()
+    };
+    let newt = width(&[("rheology", s("newtonian")), ("time_step_factor", r(0.1))]);
+    let ob = width(&[
+        ("rheology", s("oldroyd_b")),
+        ("viscosity_ratio", r(0.1)),
+        ("relaxation_time", r(0.002)),
+    ]);
+    let ucm = width(&[("rheology", s("ucm")), ("relaxation_time", r(0.002))]);
+    let rel = |a: &[f64], b: &[f64]| {
+        a.iter()
+            .zip(b)
+            .map(|(x, y)| (x - y).abs() / y)
+            .fold(0.0, f64::max)
+    };
+    eprintln!(
+        "W*: newtonian {newt:?}\noldroyd_b {ob:?}\nucm {ucm:?}\nmax rel: ucm-ob {}, ob-newt {}, ucm-newt {}",
+        rel(&ucm, &ob),
+        rel(&ob, &newt),
+        rel(&ucm, &newt)
+    );
+    // Both spread past 1.5 W (no splash: a splashing drop is wider than 3 W by t* = 4).
+    for w in [&ob, &ucm] {
+        let last = *w.last().unwrap();
+        assert!((1.5..2.0).contains(&last), "W*(4) = {last}");
+    }
+    assert!(rel(&ucm, &ob) < 0.02, "UCM vs Oldroyd-B {}", rel(&ucm, &ob));
+    assert!(
+        rel(&ob, &newt) < 0.10,
+        "Oldroyd-B vs Newtonian {}",
+        rel(&ob, &newt)
+    );
+    assert!(
+        rel(&ucm, &newt) < 0.10,
+        "UCM vs Newtonian {}",
+        rel(&ucm, &newt)
+    );
+}
+
+/// ISPH's EVSS scale: unchanged where the solvent carries 0.05 eta0 or more (so the default
+/// Oldroyd-B drop, beta = 0.1, and King & Lind's lowest beta, 0.05, are bitwise what they were),
+/// raised to make up 0.05 eta0 below.
+#[test]
+fn evss_is_raised_only_below_a_twentieth_of_the_viscosity() {
+    use viscosph::rheology::{OldroydB, Rheology};
+    use viscosph::scheme::isph::isph_evss_alpha;
+    for beta in [0.05, 0.1, 0.5] {
+        assert_eq!(isph_evss_alpha(&OldroydB::new(5.0, beta, 0.02), 0.0), 0.0);
+    }
+    let ucm = OldroydB::new(5.0, 0.0, 0.02);
+    let a = isph_evss_alpha(&ucm, 0.0);
+    assert!((a * ucm.polymer_viscosity() - 0.25).abs() < 1e-12, "{a}");
+    assert_eq!(isph_evss_alpha(&ucm, 0.3), 0.3);
+    let b = OldroydB::new(5.0, 0.02, 0.02);
+    let a = isph_evss_alpha(&b, 0.0);
+    assert!((a * b.polymer_viscosity() - 0.15).abs() < 1e-12, "{a}");
+}

@@ -42,6 +42,34 @@
 //!   the solve changed, which by the symmetry of the fluid-fluid coefficients is the mirrors'
 //!   part exactly. `explicit` is the paper's (24) with (28) as printed (with eta0 = the total
 //!   viscosity, plus EVSS's alpha_V eta0).
+//! * **Low solvent viscosity: an EVSS floor.** With a free surface the compact (Morris)
+//!   Laplacian carries at least [`MIN_COMPACT_VISCOSITY_RATIO`] = 0.05 of eta0: when
+//!   beta eta0 + alpha_V eta0 is less, alpha_V is raised ([`isph_evss_alpha`]; the closed
+//!   channel keeps the configured alpha_V). EVSS (King & Lind eqs. (6)-(8)) is an identity of
+//!   the continuous equations, so this changes the discretisation, not the fluid. Cause,
+//!   measured on the UCM drop (beta = 0, De = 0.1, Re = 4): with no solvent, every viscous
+//!   stress goes through the positive-form divergence of the corrected gradients, a wide stencil
+//!   that does not see grid-scale modes, and the impact's velocity jump excites them unchecked:
+//!   the conformation blew up at t* = 1.5 (W/dr = 40), and a third of the step did not help
+//!   (W/dr = 20), so it is not a time-step limit. King & Lind need EVSS for beta = 0 (alpha_V =
+//!   0.01 in the channel) and report beta = 0.05 as the drop's lowest stable value. alpha_V eta0
+//!   = 0.01 eta0 still splashed at impact (W/dr = 20 and 40); 0.05 eta0 spreads like the
+//!   Oldroyd-B drop at beta = 0.1 (W*(8) = 1.94 and 1.95 at W/dr = 20 and 40, eta0 = 4), and
+//!   so does 0.1 eta0 (1.95 at W/dr = 40); but a floor of 0.1 made the Oldroyd-B drop at
+//!   beta = 0.05 (De = 1, W/dr = 40) splash (W* = 5.3 at t* = 8, against a spread to 2.14 and
+//!   a retraction to 1.64 without EVSS), so the floor is King & Lind's 0.05. Larger alpha_V is
+//!   worse: EVSS's explicit part, the wide operator on alpha_V eta0 2D, is not cancelled by
+//!   the implicit compact one near the free surface and in a disordered set, and with
+//!   alpha_V = (1 - beta) the UCM drop (De = 1, W/dr = 40) blew up in flight, before impact
+//!   (t* = 0.42 with the step limit below, 0.62 without; tr A should stay 2 in flight), at
+//!   De = 0.1 and W/dr = 20 it ran; 0.2 and 0.3 broke at impact like 0.1 (De = 1,
+//!   W/dr = 40). UCM at De = 1 is beyond this floor at W/dr = 40 (the stability map in
+//!   docs/benchmarks.md).
+//! * **EVSS's explicit part limits the implicit step**: `rho h^2 / (alpha_V eta0)`, the explicit
+//!   viscous limit of the wide operator on alpha_V eta0 2D. Without it alpha_V eta0 went
+//!   through the implicit solve but its explicit counterpart ran at nu alpha dt / h^2 = 1.2
+//!   (UCM, De = 0.1, W/dr = 40; that run broke at t* = 1.1). At the floor's 0.05 eta0 the limit
+//!   does not bind at W/dr = 40 (it is 4.6 times the elastic step there).
 //! * **Time step** (28) with the coefficient 2/3 `time_step_factor` (0.2 at the default), plus
 //!   `sqrt(h / |g|)` so a fluid at rest still has a finite step.
 //! * Kernel: the quintic spline, h = 1.3 dx (`smoothing_ratio` is ignored). No equation of state,
@@ -134,6 +162,15 @@ const DENSITY_INVARIANCE: f64 = 0.05;
 /// breaks at t = 1.7, so the shift per unit time is what matters. The Eulerian frame has no
 /// disorder and keeps (28).
 const LAGRANGIAN_CHANNEL_DT: f64 = 1.0 / 3.0;
+/// Smallest share of eta0 the compact (Morris) viscous operator carries under ISPH: when the
+/// solvent's beta eta0 plus `evss_alpha`'s alpha_V eta0 is less, alpha_V is raised to make up
+/// the difference (module documentation, "Low solvent viscosity"). EVSS is an identity of the
+/// continuous equations (King & Lind eqs. (6)-(8)), so this changes the discretisation, not the
+/// model. 0.05 is King & Lind's lowest stable beta for the drop (section IV.C). Measured on the
+/// UCM drop (De = 0.1): 0.01 of eta0 still splashed at impact (W/dr = 20 and 40), 0.05 and 0.1
+/// spread like the Oldroyd-B drop at beta = 0.1; on the Oldroyd-B drop at beta = 0.05 (De = 1,
+/// W/dr = 40) a floor of 0.1 made it splash, 0.05 leaves it as it was (spreads and retracts).
+pub const MIN_COMPACT_VISCOSITY_RATIO: f64 = 0.05;
 /// Smallest number of particles per parallel task.
 const MIN_TASK: usize = 64;
 
@@ -175,14 +212,21 @@ impl<R: Rheology> Isph<R> {
     /// initial state.
     pub fn new(model: R, p: Params, cfg: &SceneConfig, plates: &[Plate]) -> Self {
         let kernel = QuinticSpline::new(H_OVER_DX * p.dx);
-        let evss = Evss::new(&model, p.evss_alpha);
+        // The EVSS floor was measured on drops; the closed channel keeps the configured
+        // alpha_V (King & Lind's beta = 0 channel uses alpha_V = 0.01).
+        let free_surface = cfg.scene != crate::config::Scene::Channel;
+        let evss_alpha = if free_surface {
+            isph_evss_alpha(&model, p.evss_alpha)
+        } else {
+            p.evss_alpha
+        };
+        let evss = Evss::new(&model, evss_alpha);
         let method = match cfg.conformation_method {
             ConformationMethod::Auto => ConformationMethod::Log,
             m => m,
         };
         let reach = kernel.radius();
         let c_lattice = lattice_concentration(&kernel, p.dx);
-        let free_surface = cfg.scene != crate::config::Scene::Channel;
         let frame_dt = if !free_surface && cfg.isph_frame == IsphFrame::Lagrangian {
             LAGRANGIAN_CHANNEL_DT
         } else {
@@ -233,6 +277,9 @@ impl<R: Rheology> Isph<R> {
         match self.viscous {
             ViscousStep::Explicit => lim = lim.min(rho_h2 / eta_all),
             ViscousStep::Implicit => {
+                if self.evss.is_on() {
+                    lim = lim.min(rho_h2 / self.evss.added_viscosity());
+                }
                 if R::ELASTIC {
                     let (g_mod, lambda) = (self.model.modulus(), self.model.relaxation_time());
                     let eta_p = self.model.polymer_viscosity();
@@ -249,6 +296,25 @@ impl<R: Rheology> Isph<R> {
         }
         self.dt_coef * lim
     }
+}
+
+/// The EVSS scale `evss_alpha` (alpha_V / (1 - beta)) ISPH uses in a scene with a free surface:
+/// the configured one, raised so that the Laplacian carries at least
+/// [`MIN_COMPACT_VISCOSITY_RATIO`] of eta0. Inelastic models (no polymer viscosity) keep theirs;
+/// so does the closed channel (not measured there; King & Lind run its beta = 0 case with
+/// alpha_V = 0.01).
+pub fn isph_evss_alpha<R: Rheology>(model: &R, evss_alpha: f64) -> f64 {
+    let eta_p = model.polymer_viscosity();
+    if !R::ELASTIC || eta_p <= 0.0 {
+        return evss_alpha;
+    }
+    let eta_s = model.solvent_viscosity(&Mat2::zeros());
+    let short = MIN_COMPACT_VISCOSITY_RATIO * (eta_s + eta_p) - eta_s;
+    // Relative margin: beta = 0.1 exactly must not switch EVSS on through round-off.
+    if short <= 1e-9 * (eta_s + eta_p) {
+        return evss_alpha;
+    }
+    evss_alpha.max(short / eta_p)
 }
 
 /// The concentration `sum_j V_j W_ij` of a particle inside an unbounded square lattice of
