@@ -9,11 +9,12 @@
 //!    ([`shifting`], with the corrections its documentation lists); Eulerian: `u_ps = -u^n`;
 //! 3. the conformation tensor from n-1/2 to n+1/2 with the velocity gradient of u^n (corrected
 //!    gradient (20)) through the project's rheology ([`rheology::advance`], log-conformation by
-//!    default), plus the ALE term `dt u_ps . grad Psi` of (31) (of A for the direct update);
+//!    default) by the midpoint rule (the rate taken at A^n, predicted by a half step), plus the
+//!    ALE term `dt u_ps . grad Psi` of (31) (of A for the direct update);
 //! 4. the predictor (24): `u* = u^n + dt [u_ps . grad u^n + nu lap u + div Phi / rho]`, div Phi by
 //!    the positive form of (20) (L = I), the solvent (and EVSS) viscosity by Morris' Laplacian (21),
-//!    explicitly as in the paper, or implicitly (backward Euler, [`ppe::solve_viscous`]: the
-//!    default, see below);
+//!    explicitly as in the paper, or implicitly ([`ppe::solve_viscous`]: the default; backward
+//!    Euler with a free surface, Crank-Nicolson in the closed channel, see below);
 //! 5. the PPE (25) `lap p = (rho / dt) div u*` ([`ppe::assemble_poisson`], BiCGStab + ILU(0) warm
 //!    started from p^n), free-surface particles Dirichlet (p = 0, see below: the paper's (35a)
 //!    was measured unstable here), mirrors Neumann with the hydrostatic offset;
@@ -42,6 +43,26 @@
 //!   the solve changed, which by the symmetry of the fluid-fluid coefficients is the mirrors'
 //!   part exactly. `explicit` is the paper's (24) with (28) as printed (with eta0 = the total
 //!   viscosity, plus EVSS's alpha_V eta0).
+//! * **Second order in time where it could be measured** (issue 12). Measured on King & Lind's
+//!   channel (Oldroyd-B, Re = 1, beta = 0.1, Wi = 5, Eulerian, 30 across, t = 0..3, centre line
+//!   against Waters & King at t = 2.35 / 2.65): the first-order forward-Euler conformation update
+//!   (rate at A^{n-1/2}) with backward Euler for the solvent was -4.8 % / -6.0 % at the default
+//!   step and -0.9 % at a third of it. With the midpoint conformation update: +1.5 % / +2.2 %
+//!   (backward Euler), +1.1 % / +1.6 % (Crank-Nicolson), the same +1.0 % / +1.6 % at a third of
+//!   the step and with the explicit viscous step (the rest is spatial: 7 % at 15 across). The
+//!   solvent step is the theta method
+//!   `(I - theta dt nu lap) u* = (I + (1 - theta) dt nu lap) u^n + dt [...]`: theta = 1/2 in the closed channel (Newtonian start-up: largest centre-line error
+//!   0.2 % against 2.7 % with theta = 1), theta = 1 with a free surface, where Crank-Nicolson's
+//!   undamped stiff modes rang: the Newtonian drop of King & Lind IV.C at W/dr = 40 lost 48 % of
+//!   its volume by t* = 8 (theta = 0.6: 4.1 %; theta = 1: 1.7 %). In the channel the viscous
+//!   term's mirrors continue the wall curvature of the wall's momentum balance,
+//!   `mu_w u''_w = -(rho g.t + dPhi_tn/dn)` (no acceleration at a no-slip wall), not the curvature
+//!   fitted to u^n ([`wall_profile`]): the fitted one is explicit in u and, with Crank-Nicolson,
+//!   fed back into the wall row until it ran away (Newtonian wall row 1.78 U, centre line
+//!   1.052 U); backward Euler damped it. What is still first order: the conformation is stored at
+//!   the end of the step, not staggered by half a step (symplectic Euler in the coupling of u and
+//!   A): at 15 across the centre lines at the default step, a third and a tenth of it differ by
+//!   0.0083 U and 0.0028 U (a ratio of 3).
 //! * **Time step** (28) with the coefficient 2/3 `time_step_factor` (0.2 at the default), plus
 //!   `sqrt(h / |g|)` so a fluid at rest still has a finite step.
 //! * Kernel: the quintic spline, h = 1.3 dx (`smoothing_ratio` is ignored). No equation of state,
@@ -78,10 +99,11 @@
 //! * **The closed periodic channel** (no free surface; issue 12) differs in three places, each
 //!   measured on King & Lind's unit channel at 30 across: the body force is in the predictor
 //!   (with the corrector's g the implicit viscous step acts on u - g dt, and the Newtonian flow
-//!   settled g dt = 0.067 U fast everywhere); the mirrors continue the fitted wall curvature of
-//!   the velocity and the slope of the shear stress ([`wall_profile`]; Newtonian centre line
-//!   0.9994 U, flow rate 0.66663 U H, against 1.0016 U and 0.6688 U H without); and the
-//!   Lagrangian frame takes a third of the step (`LAGRANGIAN_CHANNEL_DT`).
+//!   settled g dt = 0.067 U fast everywhere); the mirrors continue the wall curvature of the
+//!   velocity (fitted for the velocity gradient, from the wall's momentum balance for the viscous
+//!   term, see above) and the fitted slope of the shear stress ([`wall_profile`]; Newtonian
+//!   centre line 0.9994 U, flow rate 0.66663 U H, against 1.0016 U and 0.6688 U H without); and
+//!   the Lagrangian frame takes a third of the step (`LAGRANGIAN_CHANNEL_DT`).
 //! * A pressure or viscous solve that does not converge stops the run with the solver's cause.
 //! * **Inlet** (the jet's nozzle, [`crate::state::Inflow::holds`]): a buffer of particles held at
 //!   the inflow velocity, in the spirit of the moving ghost particles King & Lind cite for their
