@@ -78,6 +78,37 @@ pub fn velocity_corrections(
         .collect()
 }
 
+/// Slope of the fitted shear component `t . Phi n` per unit of s = d / reach.
+fn shear_slope_per_reach(
+    plate: &Plate,
+    x: &[Vec2],
+    parent: &[u32],
+    phi: &[Mat2],
+    reach: f64,
+) -> f64 {
+    let (t, n) = (plate.t, plate.n);
+    let c = fit(
+        parent.iter().map(|&i| {
+            let i = i as usize;
+            (plate.d(&x[i]) / reach, t.dot(&(phi[i] * n)))
+        }),
+        |s| Vector3::new(1.0, s, s * s),
+    );
+    c.map_or(0.0, |c| c[1])
+}
+
+/// The wall-normal slope `d(t . Phi n)/dn` at the wall of `plate` [Pa/m], from a quadratic fit
+/// of the shear component over the mirrors' parents (0 with too few samples).
+pub fn shear_stress_slope(
+    plate: &Plate,
+    x: &[Vec2],
+    parent: &[u32],
+    phi: &[Mat2],
+    reach: f64,
+) -> f64 {
+    shear_slope_per_reach(plate, x, parent, phi, reach) / reach
+}
+
 /// Per mirror, the stress to add to the parent's (even) value: `-2 (dPhi_tn/dn) d` on the shear
 /// component in the wall frame, from a quadratic fit of `t . Phi n`.
 pub fn shear_stress_corrections(
@@ -88,18 +119,28 @@ pub fn shear_stress_corrections(
     reach: f64,
 ) -> Vec<Mat2> {
     let (t, n) = (plate.t, plate.n);
-    let c = fit(
-        parent.iter().map(|&i| {
-            let i = i as usize;
-            (plate.d(&x[i]) / reach, t.dot(&(phi[i] * n)))
-        }),
-        |s| Vector3::new(1.0, s, s * s),
-    );
-    let slope = c.map_or(0.0, |c| c[1]);
+    let slope = shear_slope_per_reach(plate, x, parent, phi, reach);
     let shape = t * n.transpose() + n * t.transpose();
     parent
         .iter()
         .map(|&i| shape * (-2.0 * slope * plate.d(&x[i as usize]) / reach))
+        .collect()
+}
+
+/// Per mirror, the velocity to add to `2 u_wall - u_parent` for a given wall curvature
+/// `u''_w = d^2 (u . t) / dn^2`: `u''_w d^2 t` (exact for a cubic profile).
+pub fn curvature_corrections(
+    plate: &Plate,
+    x: &[Vec2],
+    parent: &[u32],
+    curvature: f64,
+) -> Vec<Vec2> {
+    parent
+        .iter()
+        .map(|&i| {
+            let d = plate.d(&x[i as usize]);
+            plate.t * (curvature * d * d)
+        })
         .collect()
 }
 

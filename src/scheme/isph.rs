@@ -9,11 +9,12 @@
 //!    ([`shifting`], with the corrections its documentation lists); Eulerian: `u_ps = -u^n`;
 //! 3. the conformation tensor from n-1/2 to n+1/2 with the velocity gradient of u^n (corrected
 //!    gradient (20)) through the project's rheology ([`rheology::advance`], log-conformation by
-//!    default), plus the ALE term `dt u_ps . grad Psi` of (31) (of A for the direct update);
+//!    default) by the midpoint rule (the rate taken at A^n, predicted by a half step), plus the
+//!    ALE term `dt u_ps . grad Psi` of (31) (of A for the direct update);
 //! 4. the predictor (24): `u* = u^n + dt [u_ps . grad u^n + nu lap u + div Phi / rho]`, div Phi by
 //!    the positive form of (20) (L = I), the solvent (and EVSS) viscosity by Morris' Laplacian (21),
-//!    explicitly as in the paper, or implicitly (backward Euler, [`ppe::solve_viscous`]: the
-//!    default, see below);
+//!    explicitly as in the paper, or implicitly ([`ppe::solve_viscous`]: the default; backward
+//!    Euler with a free surface, Crank-Nicolson in the closed channel, see below);
 //! 5. the PPE (25) `lap p = (rho / dt) div u*` ([`ppe::assemble_poisson`], BiCGStab + ILU(0) warm
 //!    started from p^n), free-surface particles Dirichlet (p = 0, see below: the paper's (35a)
 //!    was measured unstable here), mirrors Neumann with the hydrostatic offset;
@@ -70,6 +71,26 @@
 //!   through the implicit solve but its explicit counterpart ran at nu alpha dt / h^2 = 1.2
 //!   (UCM, De = 0.1, W/dr = 40; that run broke at t* = 1.1). At the floor's 0.05 eta0 the limit
 //!   does not bind at W/dr = 40 (it is 4.6 times the elastic step there).
+//! * **Second order in time where it could be measured** (issue 12). Measured on King & Lind's
+//!   channel (Oldroyd-B, Re = 1, beta = 0.1, Wi = 5, Eulerian, 30 across, t = 0..3, centre line
+//!   against Waters & King at t = 2.35 / 2.65): the first-order forward-Euler conformation update
+//!   (rate at A^{n-1/2}) with backward Euler for the solvent was -4.8 % / -6.0 % at the default
+//!   step and -0.9 % at a third of it. With the midpoint conformation update: +1.5 % / +2.2 %
+//!   (backward Euler), +1.1 % / +1.6 % (Crank-Nicolson), the same +1.0 % / +1.6 % at a third of
+//!   the step and with the explicit viscous step (the rest is spatial: 7 % at 15 across). The
+//!   solvent step is the theta method
+//!   `(I - theta dt nu lap) u* = (I + (1 - theta) dt nu lap) u^n + dt [...]`: theta = 1/2 in the closed channel (Newtonian start-up: largest centre-line error
+//!   0.2 % against 2.7 % with theta = 1), theta = 1 with a free surface, where Crank-Nicolson's
+//!   undamped stiff modes rang: the Newtonian drop of King & Lind IV.C at W/dr = 40 lost 48 % of
+//!   its volume by t* = 8 (theta = 0.6: 4.1 %; theta = 1: 1.7 %). In the channel the viscous
+//!   term's mirrors continue the wall curvature of the wall's momentum balance,
+//!   `mu_w u''_w = -(rho g.t + dPhi_tn/dn)` (no acceleration at a no-slip wall), not the curvature
+//!   fitted to u^n ([`wall_profile`]): the fitted one is explicit in u and, with Crank-Nicolson,
+//!   fed back into the wall row until it ran away (Newtonian wall row 1.78 U, centre line
+//!   1.052 U); backward Euler damped it. What is still first order: the conformation is stored at
+//!   the end of the step, not staggered by half a step (symplectic Euler in the coupling of u and
+//!   A): at 15 across the centre lines at the default step, a third and a tenth of it differ by
+//!   0.0083 U and 0.0028 U (a ratio of 3).
 //! * **Time step** (28) with the coefficient 2/3 `time_step_factor` (0.2 at the default), plus
 //!   `sqrt(h / |g|)` so a fluid at rest still has a finite step.
 //! * Kernel: the quintic spline, h = 1.3 dx (`smoothing_ratio` is ignored). No equation of state,
@@ -106,10 +127,11 @@
 //! * **The closed periodic channel** (no free surface; issue 12) differs in three places, each
 //!   measured on King & Lind's unit channel at 30 across: the body force is in the predictor
 //!   (with the corrector's g the implicit viscous step acts on u - g dt, and the Newtonian flow
-//!   settled g dt = 0.067 U fast everywhere); the mirrors continue the fitted wall curvature of
-//!   the velocity and the slope of the shear stress ([`wall_profile`]; Newtonian centre line
-//!   0.9994 U, flow rate 0.66663 U H, against 1.0016 U and 0.6688 U H without); and the
-//!   Lagrangian frame takes a third of the step (`LAGRANGIAN_CHANNEL_DT`).
+//!   settled g dt = 0.067 U fast everywhere); the mirrors continue the wall curvature of the
+//!   velocity (fitted for the velocity gradient, from the wall's momentum balance for the viscous
+//!   term, see above) and the fitted slope of the shear stress ([`wall_profile`]; Newtonian
+//!   centre line 0.9994 U, flow rate 0.66663 U H, against 1.0016 U and 0.6688 U H without); and
+//!   the Lagrangian frame takes a third of the step (`LAGRANGIAN_CHANNEL_DT`).
 //! * A pressure or viscous solve that does not converge stops the run with the solver's cause.
 //! * **Inlet** (the jet's nozzle, [`crate::state::Inflow::holds`]): a buffer of particles held at
 //!   the inflow velocity, in the spirit of the moving ghost particles King & Lind cite for their
@@ -173,6 +195,11 @@ const LAGRANGIAN_CHANNEL_DT: f64 = 1.0 / 3.0;
 pub const MIN_COMPACT_VISCOSITY_RATIO: f64 = 0.05;
 /// Smallest number of particles per parallel task.
 const MIN_TASK: usize = 64;
+/// Implicitness of the solvent viscous step in the closed channel: Crank-Nicolson (second order
+/// in time). Measured on the Newtonian start-up (Re = 1, 30 across, Eulerian, default step):
+/// largest centre-line error 0.2 % against 2.7 % with backward Euler (theta = 1). Free-surface
+/// scenes keep backward Euler (`Isph::new`).
+const VISCOUS_THETA_CLOSED: f64 = 0.5;
 
 /// Wall-clock time spent in the parts of the step (for `viscosph bench`), seconds.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -194,6 +221,8 @@ pub struct Isph<R: Rheology> {
     method: ConformationMethod,
     frame: IsphFrame,
     viscous: ViscousStep,
+    /// Weight of the new velocity in the implicit viscous step (theta method).
+    theta: f64,
     /// Whether the domain has a free surface (every scene but the closed channel).
     free_surface: bool,
     dt_coef: f64,
@@ -239,6 +268,14 @@ impl<R: Rheology> Isph<R> {
             method,
             frame: cfg.isph_frame,
             viscous: cfg.isph_viscous_step,
+            // With a free surface, Crank-Nicolson's undamped stiff modes ring: the Newtonian
+            // K&L drop (W/dr = 40) lost 48 % of its volume by t* = 8 at theta = 1/2 and 4.1 %
+            // at theta = 0.6, against 1.7 % with backward Euler.
+            theta: if free_surface {
+                1.0
+            } else {
+                VISCOUS_THETA_CLOSED
+            },
             free_surface,
             dt_coef: DT_COEF_PER_FACTOR * cfg.time_step_factor * frame_dt,
             rho: p.eos.rho0,
@@ -566,7 +603,10 @@ impl<R: Rheology> Scheme for Isph<R> {
                     } else {
                         shifted
                     };
-                    rheology::advance(method, model, &a0, &a0, &kappa[i], dt)
+                    // Midpoint rule: the rate of A from n - 1/2 to n + 1/2 is taken at
+                    // A^n (predicted by a half step), not at A^{n-1/2}: second order in time.
+                    let a_n = rheology::advance(method, model, &a0, &a0, &kappa[i], 0.5 * dt);
+                    rheology::advance(method, model, &a0, &a_n, &kappa[i], dt)
                 })
                 .collect()
         } else {
@@ -614,6 +654,54 @@ impl<R: Rheology> Scheme for Isph<R> {
         // form) and, explicitly, the viscous Laplacian; the mirrors' share of the forces apart.
         let mu: Vec<f64> = kappa.iter().map(|k| self.laplacian_viscosity(k)).collect();
         let explicit = self.viscous == ViscousStep::Explicit;
+        // Closed channel: the mirrors of the viscous term continue the wall curvature that the
+        // wall's momentum balance prescribes (no acceleration at a no-slip wall):
+        // mu_w u''_w = -(rho g.t + dPhi_tn/dn).
+        let visc_curv: Vec<Vec2> = if self.free_surface {
+            u_curv.clone()
+        } else {
+            let mut c = Vec::with_capacity(nm);
+            for (w, r) in &wall_ranges {
+                let plate = &st.walls[*w];
+                let par = &parent[r.clone()];
+                let slope = if R::ELASTIC {
+                    wall_profile::shear_stress_slope(plate, &xs, par, &phi, radius)
+                } else {
+                    0.0
+                };
+                let mu_w = if par.is_empty() {
+                    0.0
+                } else {
+                    par.iter().map(|&i| mu[i as usize]).sum::<f64>() / par.len() as f64
+                };
+                let curv = if mu_w > 0.0 {
+                    -(rho * g.dot(&plate.t) + slope) / mu_w
+                } else {
+                    0.0
+                };
+                c.extend(wall_profile::curvature_corrections(plate, &xs, par, curv));
+            }
+            c
+        };
+        let u_visc_closed: Vec<Vec2>;
+        let u_visc: &[Vec2] = if self.free_surface {
+            &u_n
+        } else {
+            let mut out = Vec::with_capacity(n + nm);
+            out.extend_from_slice(&fl.v);
+            out.extend(
+                parent
+                    .iter()
+                    .zip(&u_wall)
+                    .zip(&visc_curv)
+                    .map(|((&i, uw), c)| 2.0 * uw - fl.v[i as usize] + c),
+            );
+            u_visc_closed = out;
+            &u_visc_closed
+        };
+        // Weight of u^n in the viscous term: all of it explicitly, 1 - theta implicitly.
+        let theta = if explicit { 0.0 } else { self.theta };
+        let w_old = 1.0 - theta;
         let mass = st.fluid.mass;
         let rows: Vec<(Vec2, Vec2, Vec2)> = (0..n)
             .into_par_iter()
@@ -630,9 +718,9 @@ impl<R: Rheology> Scheme for Isph<R> {
                         let phi_j = if j < n { phi[j] } else { phi_mirror[j - n] };
                         a += (phi[i] + phi_j) * pairs.grad[off + kk] * (vol / rho);
                     }
-                    if explicit {
-                        let c = pairs.morris[off + kk] * 0.5 * (mu[i] + mu[pj]) / rho;
-                        a += (u_n[i] - u_n[j]) * c;
+                    if w_old > 0.0 {
+                        let c = pairs.morris[off + kk] * 0.5 * (mu[i] + mu[pj]) / rho * w_old;
+                        a += (u_visc[i] - u_visc[j]) * c;
                     }
                     if j < n {
                         f += a;
@@ -681,7 +769,7 @@ impl<R: Rheology> Scheme for Isph<R> {
             let sign = vec![-1.0; nm];
             let offset: Vec<Vec2> = u_wall
                 .iter()
-                .zip(&u_curv)
+                .zip(&visc_curv)
                 .map(|(w, c)| 2.0 * w + c)
                 .collect();
             let mut u = rhs.clone();
@@ -689,7 +777,7 @@ impl<R: Rheology> Scheme for Isph<R> {
                 n,
                 &nl,
                 &coef,
-                dt / rho,
+                theta * dt / rho,
                 &parent,
                 &sign,
                 &offset,

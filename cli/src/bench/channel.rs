@@ -737,7 +737,8 @@ fn wi_sweeps(out: &Path, quick: bool, full: bool, figure: Option<u8>) -> BenchRe
                 {
                     let n = 400;
                     series.push(Series {
-                        label: format!("Wi = {} exact", r.wi),
+                        // A reference curve (thin black, one legend entry for all).
+                        label: String::new(),
                         points: (0..=n)
                             .map(|k| {
                                 let t = t_end * k as f64 / n as f64;

@@ -14,7 +14,9 @@ const FONT: &str = "sans-serif";
 
 type PlotResult = Result<(), Box<dyn std::error::Error>>;
 
-/// A named line.
+/// A named line. A series with an empty label is a reference curve (an exact solution drawn
+/// under many computed ones): a thin black line without a legend entry of its own; the legend
+/// then says once what the thin black lines are.
 pub struct Series {
     pub label: String,
     pub points: Vec<(f64, f64)>,
@@ -101,8 +103,9 @@ fn log_tick(v: f64) -> String {
     }
 }
 
-/// The corner of a panel with the fewest data points near it, for the legend.
-fn legend_corner(panel: &Panel, xs: (f64, f64), ys: (f64, f64)) -> SeriesLabelPosition {
+/// The corner of a panel with the fewest data points near it, for the legend, or None when every
+/// corner has data (the legend then goes beside the chart, where it covers nothing).
+fn legend_corner(panel: &Panel, xs: (f64, f64), ys: (f64, f64)) -> Option<SeriesLabelPosition> {
     let frac = |v: f64, (lo, hi): (f64, f64), log: bool| {
         if log {
             (v.max(1e-300).ln() - lo.ln()) / (hi.ln() - lo.ln())
@@ -122,12 +125,83 @@ fn legend_corner(panel: &Panel, xs: (f64, f64), ys: (f64, f64)) -> SeriesLabelPo
     let best = (0..4)
         .min_by_key(|&k| (count[k], [1, 0, 3, 2][k]))
         .unwrap_or(1);
-    match best {
+    if count[best] > 0 {
+        return None;
+    }
+    Some(match best {
         0 => SeriesLabelPosition::UpperLeft,
         1 => SeriesLabelPosition::UpperRight,
         2 => SeriesLabelPosition::LowerLeft,
         _ => SeriesLabelPosition::LowerRight,
+    })
+}
+
+/// Legend text of the reference curves (series with an empty label).
+const REFERENCE_LABEL: &str = "thin black: exact";
+
+/// Whether the panel has reference curves besides labelled ones.
+fn has_references(panel: &Panel) -> bool {
+    panel.series.iter().any(|s| s.label.is_empty())
+        && panel.series.iter().any(|s| !s.label.is_empty())
+}
+
+/// The legend entries of a panel: (label, colour, line width) of each labelled series, then one
+/// entry for the reference curves if there are any.
+fn legend_entries(panel: &Panel) -> Vec<(String, RGBAColor, u32)> {
+    let mut e: Vec<(String, RGBAColor, u32)> = panel
+        .series
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| !s.label.is_empty())
+        .map(|(k, s)| (s.label.clone(), series_color(panel, k), 2))
+        .collect();
+    if has_references(panel) {
+        e.push((REFERENCE_LABEL.into(), BLACK.to_rgba(), 1));
     }
+    e
+}
+
+/// Colour of series k: the palette over the labelled series; black for a reference curve.
+fn series_color(panel: &Panel, k: usize) -> RGBAColor {
+    if panel.series[k].label.is_empty() {
+        return BLACK.to_rgba();
+    }
+    let idx = panel.series[..k]
+        .iter()
+        .filter(|s| !s.label.is_empty())
+        .count();
+    Palette99::pick(idx).to_rgba()
+}
+
+/// Width in pixels of a legend beside the chart.
+fn legend_width(entries: &[(String, RGBAColor, u32)]) -> u32 {
+    let chars = entries
+        .iter()
+        .map(|e| e.0.chars().count())
+        .max()
+        .unwrap_or(0) as u32;
+    48 + chars * TICKS * 11 / 20
+}
+
+/// A legend drawn in its own area (beside the chart), one entry per line from the top.
+fn draw_side_legend(
+    area: &DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>,
+    entries: &[(String, RGBAColor, u32)],
+) -> PlotResult {
+    let line = TICKS as i32 + 6;
+    for (k, (label, color, width)) in entries.iter().enumerate() {
+        let y = 40 + k as i32 * line;
+        area.draw(&PathElement::new(
+            vec![(6, y), (30, y)],
+            color.stroke_width(*width),
+        ))?;
+        area.draw(&Text::new(
+            label.clone(),
+            (36, y - TICKS as i32 / 2),
+            (FONT, TICKS).into_font(),
+        ))?;
+    }
+    Ok(())
 }
 
 /// [`line_panels`] on a grid of `cols` columns whose cells are `cell` pixels each; nothing is
@@ -172,7 +246,22 @@ fn draw_panel(
             .flat_map(|s| s.points.iter().map(|p| p.1)),
         panel.log.1,
     );
-    let mut b = ChartBuilder::on(area);
+    let entries = legend_entries(panel);
+    let with_legend =
+        panel.series.len() > 1 || !panel.series.is_empty() && !panel.series[0].label.is_empty();
+    let corner = legend_corner(panel, xs, ys);
+    let (chart_area, side) = if with_legend && corner.is_none() && !entries.is_empty() {
+        let w = area.dim_in_pixel().0;
+        let lw = legend_width(&entries).min(w / 2);
+        let (c, l) = area.split_horizontally(w - lw);
+        (c, Some(l))
+    } else {
+        (area.clone(), None)
+    };
+    if let Some(l) = &side {
+        draw_side_legend(l, &entries)?;
+    }
+    let mut b = ChartBuilder::on(&chart_area);
     b.caption(&panel.title, (FONT, CAPTION))
         .margin(14)
         .x_label_area_size(58)
@@ -204,7 +293,8 @@ fn draw_panel(
                 .axis_desc_style((FONT, AXIS_DESC))
                 .draw()?;
             for (k, s) in panel.series.iter().enumerate() {
-                let color = Palette99::pick(k).to_rgba();
+                let color = series_color(panel, k);
+                let reference = s.label.is_empty();
                 let pts: Vec<(f64, f64)> = s
                     .points
                     .iter()
@@ -212,22 +302,29 @@ fn draw_panel(
                     .filter(|p| p.0.is_finite() && p.1.is_finite())
                     .filter(|p| (!panel.log.0 || p.0 > 0.0) && (!panel.log.1 || p.1 > 0.0))
                     .collect();
-                chart
-                    .draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))?
-                    .label(s.label.as_str())
-                    .legend(move |(x, y)| {
+                let line = chart.draw_series(LineSeries::new(
+                    pts.clone(),
+                    color.stroke_width(if reference { 1 } else { 2 }),
+                ))?;
+                if !reference {
+                    line.label(s.label.as_str()).legend(move |(x, y)| {
                         PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
                     });
-                if pts.len() < 40 {
+                }
+                if pts.len() < 40 && !reference {
                     chart.draw_series(pts.iter().map(|p| Circle::new(*p, 3, color.filled())))?;
                 }
             }
-            if panel.series.len() > 1
-                || !panel.series.is_empty() && !panel.series[0].label.is_empty()
-            {
+            if let (true, Some(corner)) = (with_legend, corner) {
+                if has_references(panel) {
+                    chart
+                        .draw_series(LineSeries::new(Vec::<(f64, f64)>::new(), BLACK))?
+                        .label(REFERENCE_LABEL)
+                        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], BLACK));
+                }
                 chart
                     .configure_series_labels()
-                    .position(legend_corner(panel, xs, ys))
+                    .position(corner)
                     .label_font((FONT, TICKS))
                     .background_style(WHITE.mix(0.8))
                     .border_style(BLACK)
