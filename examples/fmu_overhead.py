@@ -19,16 +19,7 @@ import time
 from fmpy import extract, read_model_description
 from fmpy.fmi2 import FMU2Slave
 
-
-def cpu_model():
-    try:
-        with open("/proc/cpuinfo") as f:
-            for line in f:
-                if line.startswith("model name"):
-                    return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return "unknown"
+from compare_speed import cpu_model  # the same CPU line as the side-by-side timings
 
 
 def run(md, unzipdir, t_end, h):
