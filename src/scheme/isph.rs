@@ -354,6 +354,22 @@ pub fn isph_evss_alpha<R: Rheology>(model: &R, evss_alpha: f64) -> f64 {
     evss_alpha.max(short / eta_p)
 }
 
+/// A fluid velocity field extended over the mirrors: King & Lind's no-slip continuation
+/// `2 u_wall - u_parent` plus the wall-curvature correction of each mirror
+/// ([`wall_profile`]; zero with a free surface).
+fn extend_over_mirrors(u: &[Vec2], parent: &[u32], u_wall: &[Vec2], curv: &[Vec2]) -> Vec<Vec2> {
+    let mut out = Vec::with_capacity(u.len() + parent.len());
+    out.extend_from_slice(u);
+    out.extend(
+        parent
+            .iter()
+            .zip(u_wall)
+            .zip(curv)
+            .map(|((&i, uw), c)| 2.0 * uw - u[i as usize] + c),
+    );
+    out
+}
+
 /// The concentration `sum_j V_j W_ij` of a particle inside an unbounded square lattice of
 /// spacing `dx` (V = dx^2): the value of a particle of the uncompressed fluid.
 fn lattice_concentration<K: Kernel>(kernel: &K, dx: f64) -> f64 {
@@ -523,18 +539,7 @@ impl<R: Rheology> Scheme for Isph<R> {
             c
         };
         // Extend a fluid velocity field over the mirrors (no slip).
-        let extend_u = |u: &[Vec2]| -> Vec<Vec2> {
-            let mut out = Vec::with_capacity(n + nm);
-            out.extend_from_slice(u);
-            out.extend(
-                parent
-                    .iter()
-                    .zip(&u_wall)
-                    .zip(&u_curv)
-                    .map(|((&i, uw), c)| 2.0 * uw - u[i as usize] + c),
-            );
-            out
-        };
+        let extend_u = |u: &[Vec2]| extend_over_mirrors(u, &parent, &u_wall, &u_curv);
         let u_n = extend_u(&fl.v);
         let u_ps: Vec<Vec2> = if lagrangian {
             let (repulsion, d): (Vec<bool>, Vec<f64>) = match &surf {
@@ -657,8 +662,9 @@ impl<R: Rheology> Scheme for Isph<R> {
         // Closed channel: the mirrors of the viscous term continue the wall curvature that the
         // wall's momentum balance prescribes (no acceleration at a no-slip wall):
         // mu_w u''_w = -(rho g.t + dPhi_tn/dn).
-        let visc_curv: Vec<Vec2> = if self.free_surface {
-            u_curv.clone()
+        let visc_curv_closed: Vec<Vec2>;
+        let visc_curv: &[Vec2] = if self.free_surface {
+            &u_curv
         } else {
             let mut c = Vec::with_capacity(nm);
             for (w, r) in &wall_ranges {
@@ -681,22 +687,14 @@ impl<R: Rheology> Scheme for Isph<R> {
                 };
                 c.extend(wall_profile::curvature_corrections(plate, &xs, par, curv));
             }
-            c
+            visc_curv_closed = c;
+            &visc_curv_closed
         };
         let u_visc_closed: Vec<Vec2>;
         let u_visc: &[Vec2] = if self.free_surface {
             &u_n
         } else {
-            let mut out = Vec::with_capacity(n + nm);
-            out.extend_from_slice(&fl.v);
-            out.extend(
-                parent
-                    .iter()
-                    .zip(&u_wall)
-                    .zip(&visc_curv)
-                    .map(|((&i, uw), c)| 2.0 * uw - fl.v[i as usize] + c),
-            );
-            u_visc_closed = out;
+            u_visc_closed = extend_over_mirrors(&fl.v, &parent, &u_wall, visc_curv);
             &u_visc_closed
         };
         // Weight of u^n in the viscous term: all of it explicitly, 1 - theta implicitly.
@@ -769,7 +767,7 @@ impl<R: Rheology> Scheme for Isph<R> {
             let sign = vec![-1.0; nm];
             let offset: Vec<Vec2> = u_wall
                 .iter()
-                .zip(&visc_curv)
+                .zip(visc_curv)
                 .map(|(w, c)| 2.0 * w + c)
                 .collect();
             let mut u = rhs.clone();
