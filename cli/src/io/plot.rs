@@ -88,18 +88,31 @@ fn tick(v: f64) -> String {
 
 /// A tick label on a log axis: only at 1, 2 and 5 times a power of ten, because plotters puts a
 /// tick at every integer multiple and their labels run into each other near the end of a decade.
-fn log_tick(v: f64) -> String {
+/// One notation per axis (`range`): plain where the whole axis lies in 0.01..10^4, otherwise
+/// every label in the short scientific form `2e-3`, so one axis never mixes "0.01" and
+/// "1.0e-3".
+fn log_tick(v: f64, range: (f64, f64)) -> String {
     if v.is_nan() || v <= 0.0 {
         return String::new();
     }
-    let mantissa = v / 10f64.powf(v.log10().floor());
-    if [1.0, 2.0, 5.0, 10.0]
-        .iter()
-        .any(|m| (mantissa - m).abs() < 1e-6 * m)
-    {
+    let exp = v.log10().floor();
+    let mantissa = v / 10f64.powf(exp);
+    let Some(m) = [1.0, 2.0, 5.0, 10.0]
+        .into_iter()
+        .find(|m| (mantissa - m).abs() < 1e-6 * m)
+    else {
+        return String::new();
+    };
+    let plain = range.0 >= 1e-2 && range.1 < 1e4;
+    if plain {
         tick(v)
     } else {
-        String::new()
+        let (m, exp) = if m == 10.0 {
+            (1.0, exp + 1.0)
+        } else {
+            (m, exp)
+        };
+        format!("{m}e{exp}")
     }
 }
 
@@ -275,14 +288,14 @@ fn draw_panel(
                 .y_labels(8)
                 .x_label_formatter(&|v| {
                     if panel.log.0 {
-                        log_tick(*v)
+                        log_tick(*v, xs)
                     } else {
                         tick_in(*v, xs.1 - xs.0)
                     }
                 })
                 .y_label_formatter(&|v| {
                     if panel.log.1 {
-                        log_tick(*v)
+                        log_tick(*v, ys)
                     } else {
                         tick_in(*v, ys.1 - ys.0)
                     }
@@ -710,12 +723,18 @@ mod tests {
 
     #[test]
     fn log_ticks_are_labelled_at_one_two_five_only() {
-        let labels: Vec<String> = [7.0, 10.0, 20.0, 30.0, 50.0, 70.0, 90.0, 100.0, 0.002]
+        let labels: Vec<String> = [7.0, 10.0, 20.0, 30.0, 50.0, 70.0, 90.0, 100.0]
             .iter()
-            .map(|v| log_tick(*v))
+            .map(|v| log_tick(*v, (1.0, 1000.0)))
             .collect();
-        assert_eq!(labels, ["", "10", "20", "", "50", "", "", "100", "2.0e-3"]);
-        assert_eq!(log_tick(0.0), "");
+        assert_eq!(labels, ["", "10", "20", "", "50", "", "", "100"]);
+        assert_eq!(log_tick(0.0, (1.0, 1000.0)), "");
+        // An axis reaching below 0.01 labels every tick the same way.
+        let labels: Vec<String> = [0.002, 0.01, 0.05, 0.1, 1.0]
+            .iter()
+            .map(|v| log_tick(*v, (1e-3, 1.0)))
+            .collect();
+        assert_eq!(labels, ["2e-3", "1e-2", "5e-2", "1e-1", "1e0"]);
     }
 
     /// Draws a cost-against-error panel like the benchmark's to `VISCOSPH_PLOT_DIR` (for a
@@ -732,7 +751,7 @@ mod tests {
             y_label: "error [-]".into(),
             series: vec![Series {
                 label: "a".into(),
-                points: vec![(6.0, 0.25), (70.0, 0.07), (104.0, 0.04)],
+                points: vec![(6.0, 0.25), (70.0, 0.007), (104.0, 0.0004)],
             }],
             log: (true, true),
         };
