@@ -98,8 +98,10 @@ pub struct WcCore<K: Kernel, R: Rheology> {
     /// m / rho of every particle.
     all_vol: Vec<f64>,
     /// What the gather passes read of a neighbour, packed per particle (fluid first, then
-    /// virtual): one 64-byte line for pass 1, a second one for pass 2 (see [`passes::Rec`]).
+    /// virtual): 48 bytes for pass 1 ([`passes::Rec`]), one 64-byte line for pass 2
+    /// ([`passes::Rec2`]).
     rec: Vec<passes::Rec>,
+    rec2: Vec<passes::Rec2>,
     pairs: PairCache,
     /// Polymer stress of fluid particles (empty for inelastic models); from pass 1 on, with EVSS,
     /// the elastic stress as it enters sigma (Phi and its trace term), which is what the wall's
@@ -138,6 +140,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
             all_mu: Vec::new(),
             all_vol: Vec::new(),
             rec: Vec::new(),
+            rec2: Vec::new(),
             pairs: PairCache::default(),
             tau_p: Vec::new(),
             kappa: Vec::new(),
