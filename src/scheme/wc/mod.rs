@@ -339,7 +339,11 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
     ) -> f64 {
         let h = self.kernel.h();
         let vmax = if with_flow_speed {
-            fl.v.iter().fold(0.0f64, |m, v| m.max(v.norm()))
+            // The largest squared speed, one square root: sqrt is correctly rounded and
+            // monotone, so this is bitwise the largest of the norms, without a root per particle.
+            fl.v.iter()
+                .fold(0.0f64, |m, v| m.max(v.norm_squared()))
+                .sqrt()
         } else {
             0.0
         };

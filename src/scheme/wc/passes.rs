@@ -302,6 +302,10 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
                 |(i, ((js, gs, ps, fs), len, kappa_i, drho_i, sigma_i, art_i, hess_i, mu_i))| {
                     let ri = &rec[i];
                     let (xi, yi, vxi, vyi) = (ri.x, ri.y, ri.vx, ri.vy);
+                    // Locals, not loads through the closure's captures: the loop's stores might
+                    // alias them as far as the compiler knows, and it reloaded both every
+                    // candidate.
+                    let (rhoi, r2max) = (ri.rho, r2max);
                     // Compact the candidates inside the support (other than i) to the front of
                     // i's slots, without a branch per candidate (a fifth of the list is skin):
                     // x_ij, r^2, v_ij . x_ij and the mean density, all that the artificial
@@ -324,7 +328,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
                             *gs.get_unchecked_mut(k) = xij;
                             *ps.get_unchecked_mut(k) =
                                 Vec2::new(vxi - rj.vx, vyi - rj.vy).dot(&xij);
-                            *fs.get_unchecked_mut(k) = 0.5 * (ri.rho + rj.rho);
+                            *fs.get_unchecked_mut(k) = 0.5 * (rhoi + rj.rho);
                         }
                         k += ((r2 < r2max) & (j as usize != i)) as usize;
                     }
@@ -460,11 +464,14 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
                 });
         }
         // Sequential, fixed-order reductions.
+        // (The largest squared acceleration, then one square root: bitwise the largest norm,
+        // sqrt being correctly rounded and monotone.)
         let mut report = StageReport::default();
         for (a, aw) in self.acc.iter().zip(&self.wall_acc) {
-            report.max_acc = report.max_acc.max(a.norm());
+            report.max_acc = report.max_acc.max(a.norm_squared());
             report.wall_on_fluid += aw * mass;
         }
+        report.max_acc = report.max_acc.sqrt();
         report
     }
 }
