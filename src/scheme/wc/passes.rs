@@ -62,6 +62,9 @@ fn delta<const PERIODIC: bool>(ax: f64, ay: f64, b: &Rec, l: f64) -> (f64, f64) 
     (dx, dy)
 }
 
+/// How many pairs ahead pass 2 prefetches a neighbour's record.
+const PREFETCH: usize = 8;
+
 /// The loop-invariant numbers of the pair terms.
 struct PairConst {
     alpha: f64,
@@ -434,6 +437,20 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
                     let sum = |from: usize, to: usize| {
                         let mut a = Vec2::zeros();
                         for k in from..to {
+                            // Ask for the record PREFETCH pairs ahead: the cached indices say
+                            // which, the hardware prefetchers cannot guess it, and the profile
+                            // put pass 2's time on the load of the neighbour's record.
+                            #[cfg(target_arch = "x86_64")]
+                            if k + PREFETCH < to {
+                                use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+                                // SAFETY: k + PREFETCH < to <= n and the index < the records'
+                                // length, as below; a prefetch never faults anyway.
+                                #[allow(unused_unsafe)]
+                                unsafe {
+                                    let j = *jj.get_unchecked(k + PREFETCH) as usize;
+                                    _mm_prefetch::<_MM_HINT_T0>(rec2.as_ptr().add(j) as *const i8);
+                                }
+                            }
                             // SAFETY: k < n, the length of every slot array (asserted above),
                             // and every cached index < the records' length (asserted before
                             // the pass).
