@@ -1,8 +1,9 @@
 //! The two gather passes of a weakly compressible rate evaluation (see the parent module).
 //!
 //! **How the hot loops are laid out** (issue 16; the profile and the gain of each step are in
-//! docs/benchmarks.md). A neighbour's data is read from one packed record ([`Rec`]) rather than
-//! from six arrays of nalgebra structs: pass 1 touches its first 64-byte line, pass 2 both. The
+//! docs/benchmarks.md). A neighbour's data is read from packed records rather than from six
+//! arrays of nalgebra structs: pass 1 from a 48-byte [`Rec`], pass 2 from a 64-byte [`Rec2`]
+//! (prefetched a few pairs ahead, since the cached indices say which one comes next). The
 //! per-pair branches whose outcome is data-dependent (inside the support or in the skin; an
 //! approaching or receding pair in the artificial viscosity; a zero artificial stress; a fluid
 //! or a virtual neighbour) are gone: pass 1 compacts the candidates inside the support without a
