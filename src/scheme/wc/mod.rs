@@ -15,8 +15,8 @@
 //!    artificial stress ([`crate::operators::artificial`]), plus Morris' viscous Laplacian when
 //!    EVSS is on; the part exerted by virtual particles is the wall force.
 //!
-//! The passes read a neighbour's data from a packed record per particle and pass, filled before each
-//! pass (passes.rs says how the hot loops are laid out, and why).
+//! The passes read a neighbour's data from a packed record per particle and pass, filled
+//! before each pass (passes.rs says how the hot loops are laid out, and why).
 //!
 //! Every pass is a gather over ascending neighbour indices, so results are bitwise independent of
 //! the thread count. Every pair vector goes through the domain ([`crate::neighbors::Domain`]), so
