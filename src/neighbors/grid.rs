@@ -154,6 +154,8 @@ impl CellGrid {
 pub struct NeighborList {
     start: Vec<u32>,
     idx: Vec<u32>,
+    /// Number of points the lists index: every entry is below it.
+    points: usize,
 }
 
 impl NeighborList {
@@ -198,7 +200,11 @@ impl NeighborList {
             }
             idx.extend_from_slice(&part);
         }
-        Self { start, idx }
+        Self {
+            start,
+            idx,
+            points: points.len(),
+        }
     }
 
     /// Index of query point i's first entry in the flat pair arrays.
@@ -233,6 +239,12 @@ impl NeighborList {
             buf = tail;
         }
         out
+    }
+
+    /// Number of points the lists were built over: every entry is below it (the gather passes
+    /// check this once and then index their per-particle records without bounds tests).
+    pub fn points(&self) -> usize {
+        self.points
     }
 
     /// Total number of stored pairs.

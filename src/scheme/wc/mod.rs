@@ -15,8 +15,8 @@
 //!    artificial stress ([`crate::operators::artificial`]), plus Morris' viscous Laplacian when
 //!    EVSS is on; the part exerted by virtual particles is the wall force.
 //!
-//! The passes read a neighbour's data from one packed record per particle, filled before each
-//! pass (passes.rs says how the hot loops are laid out, and why).
+//! The passes read a neighbour's data from a packed record per particle and pass, filled
+//! before each pass (passes.rs says how the hot loops are laid out, and why).
 //!
 //! Every pass is a gather over ascending neighbour indices, so results are bitwise independent of
 //! the thread count. Every pair vector goes through the domain ([`crate::neighbors::Domain`]), so
@@ -98,8 +98,10 @@ pub struct WcCore<K: Kernel, R: Rheology> {
     /// m / rho of every particle.
     all_vol: Vec<f64>,
     /// What the gather passes read of a neighbour, packed per particle (fluid first, then
-    /// virtual): one 64-byte line for pass 1, a second one for pass 2 (see [`passes::Rec`]).
+    /// virtual): 48 bytes for pass 1 ([`passes::Rec`]), one 64-byte line for pass 2
+    /// ([`passes::Rec2`]).
     rec: Vec<passes::Rec>,
+    rec2: Vec<passes::Rec2>,
     pairs: PairCache,
     /// Polymer stress of fluid particles (empty for inelastic models); from pass 1 on, with EVSS,
     /// the elastic stress as it enters sigma (Phi and its trace term), which is what the wall's
@@ -138,6 +140,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
             all_mu: Vec::new(),
             all_vol: Vec::new(),
             rec: Vec::new(),
+            rec2: Vec::new(),
             pairs: PairCache::default(),
             tau_p: Vec::new(),
             kappa: Vec::new(),
@@ -336,7 +339,11 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
     ) -> f64 {
         let h = self.kernel.h();
         let vmax = if with_flow_speed {
-            fl.v.iter().fold(0.0f64, |m, v| m.max(v.norm()))
+            // The largest squared speed, one square root: sqrt is correctly rounded and
+            // monotone, so this is bitwise the largest of the norms, without a root per particle.
+            fl.v.iter()
+                .fold(0.0f64, |m, v| m.max(v.norm_squared()))
+                .sqrt()
         } else {
             0.0
         };

@@ -1,8 +1,9 @@
 //! The two gather passes of a weakly compressible rate evaluation (see the parent module).
 //!
 //! **How the hot loops are laid out** (issue 16; the profile and the gain of each step are in
-//! docs/benchmarks.md). A neighbour's data is read from one packed record ([`Rec`]) rather than
-//! from six arrays of nalgebra structs: pass 1 touches its first 64-byte line, pass 2 both. The
+//! docs/benchmarks.md). A neighbour's data is read from packed records rather than from six
+//! arrays of nalgebra structs: pass 1 from a 48-byte [`Rec`], pass 2 from a 64-byte [`Rec2`]
+//! (prefetched a few pairs ahead, since the cached indices say which one comes next). The
 //! per-pair branches whose outcome is data-dependent (inside the support or in the skin; an
 //! approaching or receding pair in the artificial viscosity; a zero artificial stress; a fluid
 //! or a virtual neighbour) are gone: pass 1 compacts the candidates inside the support without a
@@ -16,12 +17,13 @@
 
 use super::*;
 
-/// The per-particle values a gather pass reads of a neighbour, in one record of two 64-byte
-/// lines. Line 1 (pass 1): position, velocity, density, volume m/rho, the viscosity of the
-/// Laplacian. Line 2 (pass 2): sigma/rho^2 (Fang 2006 eq. 27) and the artificial stress R, both
-/// column-major like nalgebra's `Mat2`.
+/// What pass 1 reads of a neighbour: position, velocity, density and volume m/rho, 48 bytes.
+/// Kept apart from what pass 2 reads ([`Rec2`]): a particle's neighbours are mostly runs of
+/// consecutive indices (lattice rows), so with 48-byte records four neighbours share three cache
+/// lines, where one record of both passes' values (128 bytes) took a line per neighbour and
+/// doubled the footprint each pass walks through.
 #[derive(Debug, Clone, Copy, Default)]
-#[repr(C, align(64))]
+#[repr(C)]
 pub(crate) struct Rec {
     pub x: f64,
     pub y: f64,
@@ -29,8 +31,14 @@ pub(crate) struct Rec {
     pub vy: f64,
     pub rho: f64,
     pub vol: f64,
-    pub mu: f64,
-    _pad: f64,
+}
+
+/// What pass 2 reads of a neighbour: sigma/rho^2 (Fang 2006 eq. 27) and the artificial stress
+/// R, both column-major like nalgebra's `Mat2`: one 64-byte line. (Morris' term also reads the
+/// neighbour's [`Rec`] and its viscosity.)
+#[derive(Debug, Clone, Copy, Default)]
+#[repr(C, align(64))]
+pub(crate) struct Rec2 {
     pub s: [f64; 4],
     pub r: [f64; 4],
 }
@@ -55,6 +63,9 @@ fn delta<const PERIODIC: bool>(ax: f64, ay: f64, b: &Rec, l: f64) -> (f64, f64) 
     (dx, dy)
 }
 
+/// How many pairs ahead pass 2 prefetches a neighbour's record.
+const PREFETCH: usize = 8;
+
 /// The loop-invariant numbers of the pair terms.
 struct PairConst {
     alpha: f64,
@@ -72,24 +83,24 @@ struct PairConst {
 /// record.
 #[inline(always)]
 fn pair_term<const PERIODIC: bool, const MORRIS: bool, const ART: bool>(
-    ri: &Rec,
-    rj: &Rec,
+    (ri, si, mui): (&Rec, &Rec2, f64),
+    (rj, sj, muj): (&Rec, &Rec2, f64),
     grad: Vec2,
     pi: f64,
     f: f64,
     k: &PairConst,
 ) -> (f64, f64) {
     let mut t = [
-        ri.s[0] + rj.s[0],
-        ri.s[1] + rj.s[1],
-        ri.s[2] + rj.s[2],
-        ri.s[3] + rj.s[3],
+        si.s[0] + sj.s[0],
+        si.s[1] + sj.s[1],
+        si.s[2] + sj.s[2],
+        si.s[3] + sj.s[3],
     ];
     t[0] -= pi;
     t[3] -= pi;
     if ART {
         // A zero R_i + R_j adds exact zeros: no branch needed.
-        for (tc, (a, b)) in t.iter_mut().zip(ri.r.iter().zip(&rj.r)) {
+        for (tc, (a, b)) in t.iter_mut().zip(si.r.iter().zip(&sj.r)) {
             *tc += (a + b) * f;
         }
     }
@@ -101,7 +112,7 @@ fn pair_term<const PERIODIC: bool, const MORRIS: bool, const ART: bool>(
         let xij = Vec2::new(dx, dy);
         let vij = Vec2::new(ri.vx - rj.vx, ri.vy - rj.vy);
         let r2 = xij.norm_squared();
-        let m = stress::morris_pair(&vij, &xij, &grad, ri.mu + rj.mu, ri.rho, rj.rho, r2, k.eta2);
+        let m = stress::morris_pair(&vij, &xij, &grad, mui + muj, ri.rho, rj.rho, r2, k.eta2);
         cx += m.x;
         cy += m.y;
     }
@@ -219,11 +230,13 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
             });
     }
 
-    /// Records' second half, for pass 2: sigma/rho^2, the artificial stress and the viscosity of
-    /// the Laplacian, once pass 1 and the walls have filled them.
+    /// Records of pass 2: sigma/rho^2 and the artificial stress, once pass 1 and the walls have
+    /// filled them.
     pub(super) fn pack_stresses(&mut self) {
-        let (asig, aart, amu, arho) = (&self.all_sigma, &self.all_art, &self.all_mu, &self.all_rho);
-        self.rec
+        let n = self.all_x.len();
+        self.rec2.resize(n, Rec2::default());
+        let (asig, aart, arho) = (&self.all_sigma, &self.all_art, &self.all_rho);
+        self.rec2
             .par_iter_mut()
             .with_min_len(MIN_TASK_LIGHT)
             .enumerate()
@@ -231,7 +244,6 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
                 let rho = arho[i];
                 r.s = m2(&(asig[i] / (rho * rho)));
                 r.r = m2(&aart[i]);
-                r.mu = amu[i];
             });
     }
 
@@ -270,6 +282,9 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
         let laplacian = self.laplacian();
         let art_on = art.is_on();
         let avx2 = has_avx2();
+        // Every index in the lists is below the number of points they were built over, which is
+        // the number of records: the hot loops below read records unchecked.
+        assert!(nlist.points() <= rec.len() && rec.len() == self.all_x.len());
         let js = nlist.split_mut(&mut self.pairs.j);
         let gs = nlist.split_mut(&mut self.pairs.grad);
         let ps = nlist.split_mut(&mut self.pairs.pi);
@@ -291,20 +306,34 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
                 |(i, ((js, gs, ps, fs), len, kappa_i, drho_i, sigma_i, art_i, hess_i, mu_i))| {
                     let ri = &rec[i];
                     let (xi, yi, vxi, vyi) = (ri.x, ri.y, ri.vx, ri.vy);
+                    // Locals, not loads through the closure's captures: the loop's stores might
+                    // alias them as far as the compiler knows, and it reloaded both every
+                    // candidate.
+                    let (rhoi, r2max) = (ri.rho, r2max);
                     // Compact the candidates inside the support (other than i) to the front of
                     // i's slots, without a branch per candidate (a fifth of the list is skin):
                     // x_ij, r^2, v_ij . x_ij and the mean density, all that the artificial
                     // viscosity needs.
+                    let list = nlist.of(i);
+                    let n = list.len();
+                    assert!(js.len() >= n && gs.len() >= n && ps.len() >= n && fs.len() >= n);
                     let mut k = 0;
-                    for &j in nlist.of(i) {
-                        let rj = &rec[j as usize];
+                    for &j in list {
+                        // SAFETY: j < nlist.points() <= rec.len() (asserted before the pass)
+                        // and k <= the number of candidates seen so far < n <= each slot
+                        // array's length (asserted above). Unchecked, the loop has no bounds
+                        // tests between a neighbour's load and its stores.
+                        let rj = unsafe { rec.get_unchecked(j as usize) };
                         let (dx, dy) = delta::<PERIODIC>(xi, yi, rj, l);
                         let r2 = dx * dx + dy * dy;
                         let xij = Vec2::new(dx, dy);
-                        js[k] = j;
-                        gs[k] = xij;
-                        ps[k] = Vec2::new(vxi - rj.vx, vyi - rj.vy).dot(&xij);
-                        fs[k] = 0.5 * (ri.rho + rj.rho);
+                        unsafe {
+                            *js.get_unchecked_mut(k) = j;
+                            *gs.get_unchecked_mut(k) = xij;
+                            *ps.get_unchecked_mut(k) =
+                                Vec2::new(vxi - rj.vx, vyi - rj.vy).dot(&xij);
+                            *fs.get_unchecked_mut(k) = 0.5 * (rhoi + rj.rho);
+                        }
                         k += ((r2 < r2max) & (j as usize != i)) as usize;
                     }
                     // Then, slot by slot with no neighbour data and no branch (a loop the
@@ -315,7 +344,8 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
                     let mut kin = Kinematics::default();
                     let mut hess = Mat2::zeros();
                     for (j, grad) in js[..k].iter().zip(&gs[..k]) {
-                        let rj = &rec[*j as usize];
+                        // SAFETY: every j is from i's list (see above).
+                        let rj = unsafe { rec.get_unchecked(*j as usize) };
                         kin.add_pair(&Vec2::new(vxi - rj.vx, vyi - rj.vy), grad, rj.vol);
                         if HESS {
                             let (dx, dy) = delta::<PERIODIC>(xi, yi, rj, l);
@@ -371,8 +401,12 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
         self.wall_acc.resize(nf, Vec2::zeros());
         {
             let p = &self.p;
-            let rec = &self.rec;
+            let (rec, rec2, amu) = (&self.rec, &self.rec2, &self.all_mu);
             let (pairs, nlist) = (&self.pairs, &self.nlist);
+            // The cached indices are entries of the lists (pass 1 copies them), all below the
+            // number of points the lists were built over: the loop reads records unchecked.
+            assert!(nlist.points() <= rec2.len());
+            assert!(rec.len() == rec2.len() && amu.len() == rec2.len());
             let l = self.p.domain.period_x.unwrap_or(0.0);
             let h = self.kernel.h();
             let eta2 = MORRIS_ETA2 * h * h;
@@ -389,7 +423,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
                 .with_min_len(MIN_TASK)
                 .enumerate()
                 .for_each(|(i, (acc_i, wall_i))| {
-                    let ri = &rec[i];
+                    let ri = (&rec[i], &rec2[i], amu[i]);
                     let range = pairs.range(nlist, i);
                     let (jj, gg, pp, ff) = (
                         &pairs.j[range.clone()],
@@ -399,17 +433,43 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
                     );
                     // Ascending lists: fluid neighbours first, then virtual ones.
                     let split = jj.partition_point(|&j| (j as usize) < nf);
+                    let n = jj.len();
+                    assert!(gg.len() == n && pp.len() == n && ff.len() == n);
                     let sum = |from: usize, to: usize| {
                         let mut a = Vec2::zeros();
                         for k in from..to {
-                            let (cx, cy) = pair_term::<PERIODIC, MORRIS, ART>(
-                                ri,
-                                &rec[jj[k] as usize],
-                                gg[k],
-                                pp[k],
-                                ff[k],
-                                &cst,
-                            );
+                            // Ask for the record PREFETCH pairs ahead: the cached indices say
+                            // which, the hardware prefetchers cannot guess it, and the profile
+                            // put pass 2's time on the load of the neighbour's record.
+                            #[cfg(target_arch = "x86_64")]
+                            if k + PREFETCH < to {
+                                use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+                                // SAFETY: k + PREFETCH < to <= n and the index < the records'
+                                // length, as below; a prefetch never faults anyway.
+                                #[allow(unused_unsafe)]
+                                unsafe {
+                                    let j = *jj.get_unchecked(k + PREFETCH) as usize;
+                                    _mm_prefetch::<_MM_HINT_T0>(rec2.as_ptr().add(j) as *const i8);
+                                }
+                            }
+                            // SAFETY: k < n, the length of every slot array (asserted above),
+                            // and every cached index < the records' length (asserted before
+                            // the pass).
+                            let (rj, g, pi, f) = unsafe {
+                                let j = *jj.get_unchecked(k) as usize;
+                                (
+                                    (
+                                        rec.get_unchecked(j),
+                                        rec2.get_unchecked(j),
+                                        *amu.get_unchecked(j),
+                                    ),
+                                    *gg.get_unchecked(k),
+                                    *pp.get_unchecked(k),
+                                    *ff.get_unchecked(k),
+                                )
+                            };
+                            let (cx, cy) =
+                                pair_term::<PERIODIC, MORRIS, ART>(ri, rj, g, pi, f, &cst);
                             a.x += cx;
                             a.y += cy;
                         }
@@ -422,11 +482,14 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
                 });
         }
         // Sequential, fixed-order reductions.
+        // (The largest squared acceleration, then one square root: bitwise the largest norm,
+        // sqrt being correctly rounded and monotone.)
         let mut report = StageReport::default();
         for (a, aw) in self.acc.iter().zip(&self.wall_acc) {
-            report.max_acc = report.max_acc.max(a.norm());
+            report.max_acc = report.max_acc.max(a.norm_squared());
             report.wall_on_fluid += aw * mass;
         }
+        report.max_acc = report.max_acc.sqrt();
         report
     }
 }
