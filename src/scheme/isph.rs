@@ -150,7 +150,11 @@
 //!   the largest deviation is 1.8 % (Wi = 2), 1.5 % (Wi = 1), det A >= 1 throughout, at the
 //!   full step. The Lagrangian frame took a third of (28)'s step before, as a cure for that
 //!   disorder; with the negative form the third changed nothing measurable (Wi = 2: 1.83 %
-//!   against 1.77 %; Wi = 1: 1.48 % against 1.45 %) and is gone.
+//!   against 1.77 %; Wi = 1: 1.48 % against 1.45 %) and is gone. What limits the Eulerian
+//!   frame (Wi = 50 breaks at t = 2.87) is its ALE term `u_ps . grad Psi` with u_ps = -u, an
+//!   explicit central difference under forward Euler, which amplifies modes along the flow
+//!   every step: without it (a diagnostic) Wi = 50 keeps det A >= 1 to t = 3; sub-cycling the
+//!   constitutive update did not change the breakdown (docs/methods.md, the channel).
 //! * A pressure or viscous solve that does not converge stops the run with the solver's cause.
 //! * **Inlet** (the jet's nozzle, [`crate::state::Inflow::holds`]): a buffer of particles held at
 //!   the inflow velocity, in the spirit of the moving ghost particles King & Lind cite for their
@@ -346,9 +350,10 @@ impl<R: Rheology> Isph<R> {
 }
 
 impl<R: Rheology> Isph<R> {
-    /// The closed channel's limit for a stretched polymer: `dt <= dt_coef * STRETCHED_WAVE_LIMIT
-    /// * h / c` with `c^2 = (G + s_max) / rho`, s_max the largest tensile principal polymer
-    /// stress over the particles (for f_S = A - I, G + s_max = G l_max(A)): the speed of a
+    /// The closed channel's limit for a stretched polymer:
+    /// `dt <= dt_coef STRETCHED_WAVE_LIMIT h / c` with `c^2 = (G + s_max) / rho`, s_max the
+    /// largest tensile principal polymer stress over the particles (for f_S = A - I,
+    /// G + s_max = G l_max(A)): the speed of a
     /// transverse wave along a string under that tension (module documentation, "Time step").
     /// Infinite for an inelastic model and in scenes with a free surface (not measured there).
     fn stretched_wave_dt(&self, conf: &[Mat2]) -> f64 {
