@@ -150,11 +150,21 @@
 //!   the largest deviation is 1.8 % (Wi = 2), 1.5 % (Wi = 1), det A >= 1 throughout, at the
 //!   full step. The Lagrangian frame took a third of (28)'s step before, as a cure for that
 //!   disorder; with the negative form the third changed nothing measurable (Wi = 2: 1.83 %
-//!   against 1.77 %; Wi = 1: 1.48 % against 1.45 %) and is gone. What limits the Eulerian
-//!   frame (Wi = 50 breaks at t = 2.87) is its ALE term `u_ps . grad Psi` with u_ps = -u, an
-//!   explicit central difference under forward Euler, which amplifies modes along the flow
-//!   every step: without it (a diagnostic) Wi = 50 keeps det A >= 1 to t = 3; sub-cycling the
-//!   constitutive update did not change the breakdown (docs/methods.md, the channel).
+//!   against 1.77 %; Wi = 1: 1.48 % against 1.45 %) and is gone.
+//! * **Eulerian ALE term by three stages.** In the Eulerian frame the ALE term of (31),
+//!   `dt u_ps . grad Psi` with u_ps = -u, is the whole advection of the stress: a central
+//!   difference, which forward Euler amplifies by about 1 + (u dt k)^2 per step for every mode
+//!   that varies along the flow (King & Lind's Eulerian "checkerboard-type instability",
+//!   crashing at Wi >= 16). It is integrated by Shu & Osher's three-stage SSP Runge-Kutta
+//!   scheme (stable for a central difference up to u dt k = sqrt 3), three neighbour sums of
+//!   Psi per step. Measured (Oldroyd-B, Re = 1, beta = 0.1, 30 across): Wi = 50 broke at
+//!   t = 2.87 (det A from 1 to 0.005 once tr A passed 3000) and now follows Waters & King
+//!   within 0.20 % to t = 4 with det A >= 1; Wi = 5 within 1.8 % to t = 3. Tried first:
+//!   sub-cycling the constitutive update (no change: breakdown at t = 2.871 both ways),
+//!   dropping the term (a diagnostic, exact only for this flow: det A >= 1 to t = 3), a
+//!   Lax-Wendroff term by the compact Espanol & Revenga second derivative (to t = 4, but det A
+//!   drifted to 0.68 and the centre line 4 % low) and a one-sided (upwind) gradient (stable,
+//!   but its error in the cross-stream second derivative put Wi = 5 off by 3.6 U at t = 2.95).
 //! * A pressure or viscous solve that does not converge stops the run with the solver's cause.
 //! * **Inlet** (the jet's nozzle, [`crate::state::Inflow::holds`]): a buffer of particles held at
 //!   the inflow velocity, in the spirit of the moving ghost particles King & Lind cite for their
@@ -626,22 +636,54 @@ impl<R: Rheology> Scheme for Isph<R> {
                 .map(|a| if log { logconf::log_spd(a) } else { *a })
                 .collect();
             let (model, method) = (&self.model, self.method);
+            // dt u_ps . grad f (King & Lind eq. (31)'s ALE term) for every particle.
+            let ale = |f: &[Mat2]| -> Vec<Mat2> {
+                (0..n)
+                    .into_par_iter()
+                    .with_min_len(MIN_TASK)
+                    .map(|i| {
+                        let off = nl.offset(i);
+                        let us = l[i].transpose() * u_ps[i];
+                        let mut adv = Mat2::zeros();
+                        if us != Vec2::zeros() {
+                            for (kk, &j) in nl.of(i).iter().enumerate() {
+                                let j = j as usize;
+                                // Mirrors carry their parent's conformation (NoSlip mirror
+                                // stress).
+                                let pj = if j < n { j } else { parent[j - n] as usize };
+                                adv += (f[pj] - f[i]) * (pairs.grad[off + kk].dot(&us) * vol);
+                            }
+                        }
+                        adv * dt
+                    })
+                    .collect()
+            };
+            // Eulerian frame: the ALE term is the whole advection, a central difference that
+            // forward Euler amplifies (module documentation, the closed channel); Shu &
+            // Osher's three-stage SSP Runge-Kutta is stable for it. The Lagrangian shift is a
+            // small displacement and keeps the single stage of eq. (31).
+            let advected: Vec<Mat2> = if !lagrangian {
+                let d0 = ale(&psi);
+                let p1: Vec<Mat2> = psi.iter().zip(&d0).map(|(p, d)| p + d).collect();
+                let d1 = ale(&p1);
+                let p2: Vec<Mat2> = psi
+                    .iter()
+                    .zip(p1.iter().zip(&d1))
+                    .map(|(p, (q, d))| p * 0.75 + (q + d) * 0.25)
+                    .collect();
+                let d2 = ale(&p2);
+                psi.iter()
+                    .zip(p2.iter().zip(&d2))
+                    .map(|(p, (q, d))| p * (1.0 / 3.0) + (q + d) * (2.0 / 3.0))
+                    .collect()
+            } else {
+                psi.iter().zip(ale(&psi)).map(|(p, d)| p + d).collect()
+            };
             (0..n)
                 .into_par_iter()
                 .with_min_len(MIN_TASK)
                 .map(|i| {
-                    let off = nl.offset(i);
-                    let us = l[i].transpose() * u_ps[i];
-                    let mut adv = Mat2::zeros();
-                    if us != Vec2::zeros() {
-                        for (kk, &j) in nl.of(i).iter().enumerate() {
-                            let j = j as usize;
-                            // Mirrors carry their parent's conformation (NoSlip mirror stress).
-                            let pj = if j < n { j } else { parent[j - n] as usize };
-                            adv += (psi[pj] - psi[i]) * (pairs.grad[off + kk].dot(&us) * vol);
-                        }
-                    }
-                    let shifted = psi[i] + adv * dt;
+                    let shifted = advected[i];
                     let a0 = if log {
                         logconf::exp_sym(&shifted)
                     } else {
