@@ -12,7 +12,8 @@
 //!    default) by the midpoint rule (the rate taken at A^n, predicted by a half step), plus the
 //!    ALE term `dt u_ps . grad Psi` of (31) (of A for the direct update);
 //! 4. the predictor (24): `u* = u^n + dt [u_ps . grad u^n + nu lap u + div Phi / rho]`, div Phi by
-//!    the positive form of (20) (L = I), the solvent (and EVSS) viscosity by Morris' Laplacian (21),
+//!    the positive form of (20) (L = I) with a free surface, by the corrected negative form in the
+//!    closed channel (see below), the solvent (and EVSS) viscosity by Morris' Laplacian (21),
 //!    explicitly as in the paper, or implicitly ([`ppe::solve_viscous`]: the default; backward
 //!    Euler with a free surface, Crank-Nicolson in the closed channel, see below);
 //! 5. the PPE (25) `lap p = (rho / dt) div u*` ([`ppe::assemble_poisson`], BiCGStab + ILU(0) warm
@@ -26,7 +27,7 @@
 //!   `p_m = p_i + rho g . (r_m - r_i)`: a fluid at rest then holds its hydrostatic pressure exactly
 //!   instead of through the no-slip mirror velocities of g dt.
 //! * **Momentum-conserving pair forms.** The divergence of Phi is the positive form (the paper's
-//!   choice with a free surface), the Laplacian is Morris' with the uncorrected gradient (King's
+//!   choice with a free surface; the closed channel takes the negative one, below), the Laplacian is Morris' with the uncorrected gradient (King's
 //!   code; symmetric coefficients), and the projection uses the positive form
 //!   `grad p_i = sum_j (p_i + p_j) grad W_ij V_j` (Cummins & Rudman 1999, Shao & Lo 2003) instead
 //!   of the corrected difference form: every fluid-fluid pair then exchanges equal and opposite
@@ -92,7 +93,12 @@
 //!   A): at 15 across the centre lines at the default step, a third and a tenth of it differ by
 //!   0.0083 U and 0.0028 U (a ratio of 3).
 //! * **Time step** (28) with the coefficient 2/3 `time_step_factor` (0.2 at the default), plus
-//!   `sqrt(h / |g|)` so a fluid at rest still has a finite step.
+//!   `sqrt(h / |g|)` so a fluid at rest still has a finite step. In the closed channel also the
+//!   stretched polymer's wave: `5 h / c` (times the coefficient: a Courant number of 1) with
+//!   `c^2 = (G + s_max) / rho`, s_max the largest principal polymer stress (a string under
+//!   tension G A carries transverse waves at sqrt(G l_max(A) / rho)); (28) and `h / sqrt(G / rho)`
+//!   do not see the stretch, and as a start-up flow slows (28)'s step grows while tr A still
+//!   rises. [`STRETCHED_WAVE_LIMIT`] gives the measurements.
 //! * Kernel: the quintic spline, h = 1.3 dx (`smoothing_ratio` is ignored). No equation of state,
 //!   sound speed, artificial viscosity or artificial stress: those parameters are ignored.
 //!   `rho` of the particles stays rho0.
@@ -131,7 +137,34 @@
 //!   velocity (fitted for the velocity gradient, from the wall's momentum balance for the viscous
 //!   term, see above) and the fitted slope of the shear stress ([`wall_profile`]; Newtonian
 //!   centre line 0.9994 U, flow rate 0.66663 U H, against 1.0016 U and 0.6688 U H without); and
-//!   the Lagrangian frame takes a third of the step (`LAGRANGIAN_CHANNEL_DT`).
+//!   div Phi is the negative form of (20) with the Bonet & Lok correction,
+//!   `sum_j (Phi_j - Phi_i) L_i grad W_ij V_j`, which is what King & Lind use "for closed domains"
+//!   (their section III, after (20): "more accurate, and provides increased stability when large
+//!   stress gradients are present"; their (24) prints the positive form, the one of their
+//!   free-surface runs). Its fluid pairs do not cancel, so the net stress force on the fluid is
+//!   booked as the walls' (a periodic channel has no other boundary). Measured (Oldroyd-B,
+//!   Re = 1, beta = 0.1, Lagrangian, t = 0..3): with the positive form the wall rows under the
+//!   polymer's tension (tr A = 120 at Wi = 2) lost their lattice from t = 1.9, min det A fell
+//!   to 0.87 (Oldroyd-B keeps det A >= 1 in shear) and the centre line left Waters & King by
+//!   0.49 U (Wi = 2, 30 across; 0.55 U at 15 across, Wi = 5 likewise); with the negative form
+//!   the largest deviation is 1.8 % (Wi = 2), 1.5 % (Wi = 1), det A >= 1 throughout, at the
+//!   full step. The Lagrangian frame took a third of (28)'s step before, as a cure for that
+//!   disorder; with the negative form the third changed nothing measurable (Wi = 2: 1.83 %
+//!   against 1.77 %; Wi = 1: 1.48 % against 1.45 %) and is gone.
+//! * **Eulerian ALE term by three stages.** In the Eulerian frame the ALE term of (31),
+//!   `dt u_ps . grad Psi` with u_ps = -u, is the whole advection of the stress: a central
+//!   difference, which forward Euler amplifies by about 1 + (u dt k)^2 per step for every mode
+//!   that varies along the flow (King & Lind's Eulerian "checkerboard-type instability",
+//!   crashing at Wi >= 16). It is integrated by Shu & Osher's three-stage SSP Runge-Kutta
+//!   scheme (stable for a central difference up to u dt k = sqrt 3), three neighbour sums of
+//!   Psi per step. Measured (Oldroyd-B, Re = 1, beta = 0.1, 30 across): Wi = 50 broke at
+//!   t = 2.87 (det A from 1 to 0.005 once tr A passed 3000) and now follows Waters & King
+//!   within 0.20 % to t = 4 with det A >= 1; Wi = 5 within 1.8 % to t = 3. Tried first:
+//!   sub-cycling the constitutive update (no change: breakdown at t = 2.871 both ways),
+//!   dropping the term (a diagnostic, exact only for this flow: det A >= 1 to t = 3), a
+//!   Lax-Wendroff term by the compact Espanol & Revenga second derivative (to t = 4, but det A
+//!   drifted to 0.68 and the centre line 4 % low) and a one-sided (upwind) gradient (stable,
+//!   but its error in the cross-stream second derivative put Wi = 5 off by 3.6 U at t = 2.95).
 //! * A pressure or viscous solve that does not converge stops the run with the solver's cause.
 //! * **Inlet** (the jet's nozzle, [`crate::state::Inflow::holds`]): a buffer of particles held at
 //!   the inflow velocity, in the spirit of the moving ghost particles King & Lind cite for their
@@ -173,17 +206,6 @@ const DT_COEF_PER_FACTOR: f64 = 2.0 / 3.0;
 const PENETRATION_DEPTH: f64 = 0.5;
 /// Relaxation coefficient of the density-invariant PPE source (module documentation).
 const DENSITY_INVARIANCE: f64 = 0.05;
-/// The time-step coefficient of the Lagrangian frame in a closed channel, relative to (28)'s.
-/// The internal shifting of King & Lind eq. (41) moves a particle h^2/4 |grad C| *per step*, so
-/// its rate per unit time falls as the step grows, while the disorder a shear flow makes grows
-/// with the time elapsed. Their step is the viscous (28), 0.2 rho h^2 / eta0; the implicit
-/// viscous step lets ours grow about 25 times larger (Re = 1, 30 across), and the Oldroyd-B
-/// channel (Wi = 1, beta = 0.1) then broke at t = 1.5 H/U with the wall rows disordered.
-/// Measured at t = 0 .. 2.5: coefficient 1 breaks at t = 1.5, 1/3 follows Waters & King within
-/// 1.3 %; 1/3 with the shift per step divided by 3 (the shift per unit time of coefficient 1)
-/// breaks at t = 1.7, so the shift per unit time is what matters. The Eulerian frame has no
-/// disorder and keeps (28).
-const LAGRANGIAN_CHANNEL_DT: f64 = 1.0 / 3.0;
 /// Smallest share of eta0 the compact (Morris) viscous operator carries under ISPH: when the
 /// solvent's beta eta0 plus `evss_alpha`'s alpha_V eta0 is less, alpha_V is raised to make up
 /// the difference (module documentation, "Low solvent viscosity"). EVSS is an identity of the
@@ -193,6 +215,13 @@ const LAGRANGIAN_CHANNEL_DT: f64 = 1.0 / 3.0;
 /// spread like the Oldroyd-B drop at beta = 0.1; on the Oldroyd-B drop at beta = 0.05 (De = 1,
 /// W/dr = 40) a floor of 0.1 made it splash, 0.05 leaves it as it was (spreads and retracts).
 pub const MIN_COMPACT_VISCOSITY_RATIO: f64 = 0.05;
+/// The stretched-polymer wave limit of the closed channel per unit time-step coefficient
+/// ([`Isph::stretched_wave_dt`]): 5, so a Courant number c dt / h of 1 at the default
+/// coefficient 0.2. Measured (Oldroyd-B, Re = 1, 30 across, Lagrangian): without it Wi = 100
+/// followed Waters & King within 0.1 % to t = 17.5 and broke at t = 18.3, where c dt / h had
+/// grown to 2.4 (tr A = 1.1e5); beta = 0 at Wi = 16 broke at t = 4.0 once it passed 1 (3 at
+/// the end), as the flow slowed and (28)'s step grew while tr A still rose.
+const STRETCHED_WAVE_LIMIT: f64 = 5.0;
 /// Smallest number of particles per parallel task.
 const MIN_TASK: usize = 64;
 /// Implicitness of the solvent viscous step in the closed channel: Crank-Nicolson (second order
@@ -256,11 +285,6 @@ impl<R: Rheology> Isph<R> {
         };
         let reach = kernel.radius();
         let c_lattice = lattice_concentration(&kernel, p.dx);
-        let frame_dt = if !free_surface && cfg.isph_frame == IsphFrame::Lagrangian {
-            LAGRANGIAN_CHANNEL_DT
-        } else {
-            1.0
-        };
         Self {
             kernel,
             model,
@@ -277,7 +301,7 @@ impl<R: Rheology> Isph<R> {
                 VISCOUS_THETA_CLOSED
             },
             free_surface,
-            dt_coef: DT_COEF_PER_FACTOR * cfg.time_step_factor * frame_dt,
+            dt_coef: DT_COEF_PER_FACTOR * cfg.time_step_factor,
             rho: p.eos.rho0,
             solver: SolverOptions::default(),
             walls: plates.iter().map(|_| MirrorWall::new(reach)).collect(),
@@ -332,6 +356,31 @@ impl<R: Rheology> Isph<R> {
             }
         }
         self.dt_coef * lim
+    }
+}
+
+impl<R: Rheology> Isph<R> {
+    /// The closed channel's limit for a stretched polymer:
+    /// `dt <= dt_coef STRETCHED_WAVE_LIMIT h / c` with `c^2 = (G + s_max) / rho`, s_max the
+    /// largest tensile principal polymer stress over the particles (for f_S = A - I,
+    /// G + s_max = G l_max(A)): the speed of a
+    /// transverse wave along a string under that tension (module documentation, "Time step").
+    /// Infinite for an inelastic model and in scenes with a free surface (not measured there).
+    fn stretched_wave_dt(&self, conf: &[Mat2]) -> f64 {
+        if !R::ELASTIC || self.free_surface {
+            return f64::INFINITY;
+        }
+        let g_mod = self.model.modulus();
+        let s_max = conf
+            .iter()
+            .map(|a| logconf::sym_eigen(&self.model.polymer_stress(a)).l1)
+            .fold(0.0f64, f64::max);
+        let c = ((g_mod + s_max) / self.rho).sqrt();
+        if c > 0.0 && c.is_finite() {
+            self.dt_coef * STRETCHED_WAVE_LIMIT * self.kernel.h() / c
+        } else {
+            f64::INFINITY
+        }
     }
 }
 
@@ -457,7 +506,7 @@ impl<R: Rheology> Scheme for Isph<R> {
         let g = self.p.gravity;
         let fl = &st.fluid;
         let umax = fl.v.iter().fold(0.0f64, |m, v| m.max(v.norm()));
-        let dt_stable = self.stable_dt(umax);
+        let dt_stable = self.stable_dt(umax).min(self.stretched_wave_dt(&fl.conf));
         let dt = dt_stable.min(max_dt);
         if dt.is_nan() || dt <= 0.0 {
             return Err(format!("time step collapsed to {dt:e} s"));
@@ -587,22 +636,54 @@ impl<R: Rheology> Scheme for Isph<R> {
                 .map(|a| if log { logconf::log_spd(a) } else { *a })
                 .collect();
             let (model, method) = (&self.model, self.method);
+            // dt u_ps . grad f (King & Lind eq. (31)'s ALE term) for every particle.
+            let ale = |f: &[Mat2]| -> Vec<Mat2> {
+                (0..n)
+                    .into_par_iter()
+                    .with_min_len(MIN_TASK)
+                    .map(|i| {
+                        let off = nl.offset(i);
+                        let us = l[i].transpose() * u_ps[i];
+                        let mut adv = Mat2::zeros();
+                        if us != Vec2::zeros() {
+                            for (kk, &j) in nl.of(i).iter().enumerate() {
+                                let j = j as usize;
+                                // Mirrors carry their parent's conformation (NoSlip mirror
+                                // stress).
+                                let pj = if j < n { j } else { parent[j - n] as usize };
+                                adv += (f[pj] - f[i]) * (pairs.grad[off + kk].dot(&us) * vol);
+                            }
+                        }
+                        adv * dt
+                    })
+                    .collect()
+            };
+            // Eulerian frame: the ALE term is the whole advection, a central difference that
+            // forward Euler amplifies (module documentation, the closed channel); Shu &
+            // Osher's three-stage SSP Runge-Kutta is stable for it. The Lagrangian shift is a
+            // small displacement and keeps the single stage of eq. (31).
+            let advected: Vec<Mat2> = if !lagrangian {
+                let d0 = ale(&psi);
+                let p1: Vec<Mat2> = psi.iter().zip(&d0).map(|(p, d)| p + d).collect();
+                let d1 = ale(&p1);
+                let p2: Vec<Mat2> = psi
+                    .iter()
+                    .zip(p1.iter().zip(&d1))
+                    .map(|(p, (q, d))| p * 0.75 + (q + d) * 0.25)
+                    .collect();
+                let d2 = ale(&p2);
+                psi.iter()
+                    .zip(p2.iter().zip(&d2))
+                    .map(|(p, (q, d))| p * (1.0 / 3.0) + (q + d) * (2.0 / 3.0))
+                    .collect()
+            } else {
+                psi.iter().zip(ale(&psi)).map(|(p, d)| p + d).collect()
+            };
             (0..n)
                 .into_par_iter()
                 .with_min_len(MIN_TASK)
                 .map(|i| {
-                    let off = nl.offset(i);
-                    let us = l[i].transpose() * u_ps[i];
-                    let mut adv = Mat2::zeros();
-                    if us != Vec2::zeros() {
-                        for (kk, &j) in nl.of(i).iter().enumerate() {
-                            let j = j as usize;
-                            // Mirrors carry their parent's conformation (NoSlip mirror stress).
-                            let pj = if j < n { j } else { parent[j - n] as usize };
-                            adv += (psi[pj] - psi[i]) * (pairs.grad[off + kk].dot(&us) * vol);
-                        }
-                    }
-                    let shifted = psi[i] + adv * dt;
+                    let shifted = advected[i];
                     let a0 = if log {
                         logconf::exp_sym(&shifted)
                     } else {
@@ -701,6 +782,7 @@ impl<R: Rheology> Scheme for Isph<R> {
         let theta = if explicit { 0.0 } else { self.theta };
         let w_old = 1.0 - theta;
         let mass = st.fluid.mass;
+        let free_surface = self.free_surface;
         let rows: Vec<(Vec2, Vec2, Vec2)> = (0..n)
             .into_par_iter()
             .with_min_len(MIN_TASK)
@@ -714,7 +796,11 @@ impl<R: Rheology> Scheme for Isph<R> {
                     let mut a = Vec2::zeros();
                     if R::ELASTIC {
                         let phi_j = if j < n { phi[j] } else { phi_mirror[j - n] };
-                        a += (phi[i] + phi_j) * pairs.grad[off + kk] * (vol / rho);
+                        a += if free_surface {
+                            (phi[i] + phi_j) * pairs.grad[off + kk] * (vol / rho)
+                        } else {
+                            (phi_j - phi[i]) * (l[i] * pairs.grad[off + kk]) * (vol / rho)
+                        };
                     }
                     if w_old > 0.0 {
                         let c = pairs.morris[off + kk] * 0.5 * (mu[i] + mu[pj]) / rho * w_old;
@@ -726,7 +812,14 @@ impl<R: Rheology> Scheme for Isph<R> {
                         fw += a;
                     }
                 }
-                (remap, f + fw, fw)
+                // Closed channel: the difference form's fluid pairs do not cancel; what they
+                // leave is the force the walls exert through the stress (no other boundary).
+                let on_wall = if free_surface || !R::ELASTIC {
+                    fw
+                } else {
+                    f + fw
+                };
+                (remap, f + fw, on_wall)
             })
             .collect();
         // Closed channel: the body force goes into the predictor (King & Lind eq. (24) as
