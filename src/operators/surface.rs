@@ -32,6 +32,8 @@ pub struct Surface {
     pub div_r: Vec<f64>,
     /// Concentration C_i, eq. (37).
     pub concentration: Vec<f64>,
+    /// Detection threshold of eq. (36) at the particle's normalised concentration.
+    pub threshold: Vec<f64>,
     /// Free-surface set FS.
     pub is_surface: Vec<bool>,
     /// Near-surface set NS: not in FS, with at least one neighbour in FS.
@@ -71,9 +73,10 @@ pub fn detect<K: Kernel>(
         })
         .unzip();
     let mean_c = crate::operators::sums::fixed_sum(&concentration) / n_fluid.max(1) as f64;
-    let is_surface: Vec<bool> = (0..n_fluid)
-        .map(|i| div_r[i] <= threshold(concentration[i] / mean_c))
+    let thresholds: Vec<f64> = (0..n_fluid)
+        .map(|i| threshold(concentration[i] / mean_c))
         .collect();
+    let is_surface: Vec<bool> = (0..n_fluid).map(|i| div_r[i] <= thresholds[i]).collect();
     let near_surface = (0..n_fluid)
         .into_par_iter()
         .map(|i| {
@@ -107,10 +110,57 @@ pub fn detect<K: Kernel>(
     Surface {
         div_r,
         concentration,
+        threshold: thresholds,
         is_surface,
         near_surface,
         normal,
     }
+}
+
+/// Wendland C2 kernel in 1D with smoothing length `h` (support 2h), unnormalised.
+#[inline]
+fn wendland_1d(r: f64, h: f64) -> f64 {
+    let q = r / h;
+    if q >= 2.0 {
+        0.0
+    } else {
+        let t = 1.0 - 0.5 * q;
+        t * t * t * (1.0 + 1.5 * q)
+    }
+}
+
+/// Line density of the free-surface row at each surface particle, relative to a straight row
+/// of spacing `dx` (1 there, 1 / s for a row of spacing s dx; 0 off the surface): a 1D kernel
+/// sum over the surface neighbours only, with smoothing length `h`.
+pub fn row_density(
+    x: &[Vec2],
+    nl: &NeighborList,
+    domain: &Domain,
+    is_surface: &[bool],
+    h: f64,
+    dx: f64,
+) -> Vec<f64> {
+    let n = is_surface.len();
+    let reach = (2.0 * h / dx).ceil() as i64;
+    let flat: f64 = (-reach..=reach)
+        .map(|k| wendland_1d((k as f64 * dx).abs(), h))
+        .sum();
+    (0..n)
+        .into_par_iter()
+        .map(|i| {
+            if !is_surface[i] {
+                return 0.0;
+            }
+            let mut c = 0.0;
+            for &j in nl.of(i) {
+                let j = j as usize;
+                if j < n && is_surface[j] {
+                    c += wendland_1d(domain.delta(&x[i], &x[j]).norm(), h);
+                }
+            }
+            c / flat
+        })
+        .collect()
 }
 
 #[cfg(test)]
