@@ -16,8 +16,9 @@
 //!    explicitly as in the paper, or implicitly ([`ppe::solve_viscous`]: the default; backward
 //!    Euler with a free surface, Crank-Nicolson in the closed channel, see below);
 //! 5. the PPE (25) `lap p = (rho / dt) div u*` ([`ppe::assemble_poisson`], BiCGStab + ILU(0) warm
-//!    started from p^n), free-surface particles Dirichlet (p = 0, see below: the paper's (35a)
-//!    was measured unstable here), mirrors Neumann with the hydrostatic offset;
+//!    started from p^n), free-surface particles Dirichlet (p = 0 on the surface half a layer
+//!    outside them, see below: the paper's (35a) was measured unstable here), mirrors Neumann
+//!    with the hydrostatic offset;
 //! 6. projection (26) `u^{n+1} = u* - dt grad p / rho + dt g`;
 //! 7. advection (27) `r^{n+1} = r^n + dt/2 (u^n + u^{n+1} + 2 u_ps)`.
 //!
@@ -108,6 +109,15 @@
 //!   drop spreads to W* = 2.16 at t* = 8 under both viscous steps, and the Oldroyd-B drop spreads
 //!   to 2.1 and retracts. The positive form of div Phi still carries the stress-free condition
 //!   approximately (King & Lind section III.A).
+//!   **Where p = 0 is imposed.** The surface lies half a layer outside the surface particles'
+//!   centres, so a surface particle takes the pressure that far inside the surface,
+//!   `depth (-dp/dn)` ([`surface_pressure`], from the last step's pressures of its interior
+//!   neighbours), with `depth = dx/2` times the surface row's line density
+//!   ([`surface::row_density`]: a crowded row stands for a thicker layer). With p = 0 on the
+//!   centres the surface row crowded tangentially as the free perimeter shrank (0.81 dx apart at
+//!   W/dr = 20), and nothing returned its particles to the bulk: largest |volume_error| of the
+//!   Newtonian drop 5.32 %, 1.76 %, 0.62 % at W/dr = 20, 40, 80; now 2.73 %, 1.02 %, 0.39 %
+//!   (docs/isph.md, "Volume").
 //! * **Uncorrected gradients on the free surface.** There the Bonet & Lok moment matrix (22) is
 //!   nearly singular along the normal, and L_i amplified the velocity gradient that drives the
 //!   stress: the Oldroyd-B drop above blew up at impact (tr A = 5000 at t* = 0.8) with L_i on
