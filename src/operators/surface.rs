@@ -32,8 +32,6 @@ pub struct Surface {
     pub div_r: Vec<f64>,
     /// Concentration C_i, eq. (37).
     pub concentration: Vec<f64>,
-    /// Detection threshold of eq. (36) at the particle's normalised concentration.
-    pub threshold: Vec<f64>,
     /// Free-surface set FS.
     pub is_surface: Vec<bool>,
     /// Near-surface set NS: not in FS, with at least one neighbour in FS.
@@ -73,10 +71,9 @@ pub fn detect<K: Kernel>(
         })
         .unzip();
     let mean_c = crate::operators::sums::fixed_sum(&concentration) / n_fluid.max(1) as f64;
-    let thresholds: Vec<f64> = (0..n_fluid)
-        .map(|i| threshold(concentration[i] / mean_c))
+    let is_surface: Vec<bool> = (0..n_fluid)
+        .map(|i| div_r[i] <= threshold(concentration[i] / mean_c))
         .collect();
-    let is_surface: Vec<bool> = (0..n_fluid).map(|i| div_r[i] <= thresholds[i]).collect();
     let near_surface = (0..n_fluid)
         .into_par_iter()
         .map(|i| {
@@ -110,7 +107,6 @@ pub fn detect<K: Kernel>(
     Surface {
         div_r,
         concentration,
-        threshold: thresholds,
         is_surface,
         near_surface,
         normal,
@@ -250,6 +246,29 @@ mod tests {
                     s.normal[k]
                 );
             }
+        }
+    }
+
+    /// The surface row's line density is 1 on a straight row of spacing dr, 1 / s on a row of
+    /// spacing s dr (crowded: above 1), and 0 off the surface.
+    #[test]
+    fn row_density_measures_the_surface_spacing() {
+        let dr = 0.01;
+        let h = 1.3 * dr;
+        for (s, expect) in [(1.0, 1.0), (0.8, 1.25), (1.25, 0.8)] {
+            let mut x: Vec<Vec2> = (0..41).map(|k| Vec2::new(k as f64 * s * dr, 0.0)).collect();
+            x.push(Vec2::new(20.0 * s * dr, -dr));
+            let mut fs = vec![true; 41];
+            fs.push(false);
+            let grid = CellGrid::build(&x, 3.0 * h, &Domain::OPEN);
+            let nl = NeighborList::build(&grid, &x, &x, 3.0 * h, &Domain::OPEN);
+            let c = row_density(&x, &nl, &Domain::OPEN, &fs, h, dr);
+            assert!(
+                (c[20] - expect).abs() < 0.01 * expect,
+                "spacing {s}: {}",
+                c[20]
+            );
+            assert_eq!(c[41], 0.0);
         }
     }
 
