@@ -46,24 +46,39 @@ fn newtonian_drop_spreads_monotonically() {
     assert_outputs_finite(&ser);
 }
 
-/// The density-invariant PPE source holds the drop's covered area (geometric volume_error) at
-/// W/dr = 40: largest |error| over t* <= 8 measured 1.7 % with it and 3.4 % without (the
-/// arrangement expands after impact); 2.5 % separates the two. (The 0.5 % of the issue holds
-/// only from W/dr = 80 on: docs/isph.md, "Volume".)
-#[test]
-fn density_invariant_source_holds_the_volume() {
+/// Largest |volume_error| (covered raster area, geometric) of the Newtonian drop over t* <= 8.
+fn largest_volume_error(ppd: i64, threads: i64) -> f64 {
     let c = cfg(&[
         ("rheology", s("newtonian")),
-        ("particles_per_diameter", i(40)),
-        ("threads", i(2)),
+        ("particles_per_diameter", i(ppd)),
+        ("threads", i(threads)),
     ]);
     let (ser, err, _) = series(&c, 8.0 * T_STAR, 0.2 * T_STAR);
     assert!(err.is_none(), "{err:?}");
-    let worst = ser
-        .iter()
+    ser.iter()
         .map(|(_, o)| o.volume_error.abs())
-        .fold(0.0, f64::max);
-    assert!(worst < 0.025, "largest |volume_error| {worst}");
+        .fold(0.0, f64::max)
+}
+
+/// The free-surface pressure (p = 0 on the surface of the layer the surface particles stand
+/// for, not on their centres) and the density-invariant PPE source hold the drop's covered area
+/// at W/dr = 40: largest |error| over t* <= 8 measured 1.02 %; 1.7 % with p = 0 on the surface
+/// particles, 3.4 % without the source either (docs/isph.md, "Volume"). The 0.5 % of the issue
+/// holds from W/dr = 80 (bench), not at this resolution.
+#[test]
+fn free_surface_pressure_and_density_source_hold_the_volume() {
+    let worst = largest_volume_error(40, 2);
+    assert!(worst < 0.0125, "largest |volume_error| {worst}");
+}
+
+/// At W/dr = 20 the surface row is a large share of the particles, and with p = 0 on the
+/// surface particles it crowded tangentially: the drop lost 5.3 % of its covered area by t* = 8.
+/// With the surface pressure the largest |error| is 2.7 % (just after impact) and the end value
+/// 0.0 %.
+#[test]
+fn surface_row_does_not_crowd_at_coarse_resolution() {
+    let worst = largest_volume_error(20, 1);
+    assert!(worst < 0.03, "largest |volume_error| {worst}");
 }
 
 /// Oldroyd-B, De = 1, beta = 0.1 (lambda = 0.02 s): the drop spreads, then retracts (King & Lind
