@@ -363,6 +363,30 @@ fn isph_channel_start_up_is_accurate_in_time_at_the_default_step() {
     assert!(peak > 4.5, "first overshoot {peak} U (exact 4.8 U)");
 }
 
+/// King & Lind's Oldroyd-B channel under ISPH (Re = 1, beta = 0.1, 15 across, default step) in
+/// `frame` at `wi`, to `t_end` with outputs every 0.05 H/U: the largest centre-line velocity,
+/// the largest deviation from Waters & King as a fraction of max(U, |u_exact|), and the
+/// smallest det A.
+fn track_waters_king(frame: &str, wi: f64, t_end: f64) -> (f64, f64, f64) {
+    use viscosph::analytic::waters_king::WatersKing;
+    let c = kl_isph(frame, "oldroyd_b", 15, wi);
+    let wk = WatersKing::from_config(&c, 1.0, 8.0).unwrap();
+    let mut sim = Simulation::new(c).unwrap();
+    let (mut peak, mut worst, mut min_det) = (f64::MIN, 0.0f64, f64::MAX);
+    let outputs = (t_end / 0.05).round() as usize;
+    for k in 1..=outputs {
+        let t = k as f64 * 0.05;
+        sim.advance_to(t)
+            .unwrap_or_else(|e| panic!("{frame}, Wi = {wi}, t = {t}: {e}"));
+        let o = sim.outputs();
+        let exact = wk.centreline_velocity(t);
+        peak = peak.max(o.centreline_velocity);
+        worst = worst.max((o.centreline_velocity - exact).abs() / exact.abs().max(1.0));
+        min_det = min_det.min(o.min_conformation_det);
+    }
+    (peak, worst, min_det)
+}
+
 /// The Lagrangian isph channel under the polymer's tension: King & Lind's Oldroyd-B channel at
 /// Wi = 5 (Re = 1, beta = 0.1), 15 across, to t = 3 (the overshoot to 4.8 U, the fall to 0.34 U
 /// and the rise), at the default step. With the positive form of div Phi (King & Lind's
@@ -373,20 +397,7 @@ fn isph_channel_start_up_is_accurate_in_time_at_the_default_step() {
 /// spatial: 1.8 % at Wi = 2 and 30 across) and det A stays >= 0.9998.
 #[test]
 fn lagrangian_isph_channel_holds_the_polymer_tension_at_wi_5() {
-    use viscosph::analytic::waters_king::WatersKing;
-    let c = kl_isph("lagrangian", "oldroyd_b", 15, 5.0);
-    let wk = WatersKing::from_config(&c, 1.0, 8.0).unwrap();
-    let mut sim = Simulation::new(c).unwrap();
-    let (mut peak, mut worst, mut min_det) = (f64::MIN, 0.0f64, f64::MAX);
-    for k in 1..=60 {
-        let t = k as f64 * 0.05;
-        sim.advance_to(t).unwrap_or_else(|e| panic!("t = {t}: {e}"));
-        let o = sim.outputs();
-        let exact = wk.centreline_velocity(t);
-        peak = peak.max(o.centreline_velocity);
-        worst = worst.max((o.centreline_velocity - exact).abs() / exact.abs().max(1.0));
-        min_det = min_det.min(o.min_conformation_det);
-    }
+    let (peak, worst, min_det) = track_waters_king("lagrangian", 5.0, 3.0);
     assert!(
         worst < 0.08,
         "largest deviation {worst} of max(U, |u_exact|)"
@@ -404,19 +415,7 @@ fn lagrangian_isph_channel_holds_the_polymer_tension_at_wi_5() {
 /// 0.76 % and det A >= 0.9999999.
 #[test]
 fn eulerian_isph_channel_advects_the_stress_stably_at_wi_50() {
-    use viscosph::analytic::waters_king::WatersKing;
-    let c = kl_isph("eulerian", "oldroyd_b", 15, 50.0);
-    let wk = WatersKing::from_config(&c, 1.0, 8.0).unwrap();
-    let mut sim = Simulation::new(c).unwrap();
-    let (mut worst, mut min_det) = (0.0f64, f64::MAX);
-    for k in 1..=80 {
-        let t = k as f64 * 0.05;
-        sim.advance_to(t).unwrap_or_else(|e| panic!("t = {t}: {e}"));
-        let o = sim.outputs();
-        let exact = wk.centreline_velocity(t);
-        worst = worst.max((o.centreline_velocity - exact).abs() / exact.abs().max(1.0));
-        min_det = min_det.min(o.min_conformation_det);
-    }
+    let (_, worst, min_det) = track_waters_king("eulerian", 50.0, 4.0);
     assert!(
         worst < 0.03,
         "largest deviation {worst} of max(U, |u_exact|)"

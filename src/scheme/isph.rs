@@ -367,14 +367,12 @@ impl<R: Rheology> Isph<R> {
         }
         self.dt_coef * lim
     }
-}
 
-impl<R: Rheology> Isph<R> {
     /// The closed channel's limit for a stretched polymer:
     /// `dt <= dt_coef STRETCHED_WAVE_LIMIT h / c` with `c^2 = (G + s_max) / rho`, s_max the
     /// largest tensile principal polymer stress over the particles (for f_S = A - I,
-    /// G + s_max = G l_max(A)): the speed of a
-    /// transverse wave along a string under that tension (module documentation, "Time step").
+    /// G + s_max = G l_max(A)): the speed of a transverse wave along a string under that
+    /// tension (module documentation, "Time step").
     /// Infinite for an inelastic model and in scenes with a free surface (not measured there).
     fn stretched_wave_dt(&self, conf: &[Mat2]) -> f64 {
         if !R::ELASTIC || self.free_surface {
