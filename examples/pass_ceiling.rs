@@ -316,6 +316,202 @@ unsafe fn runs_avx2(rn: &Runs, q: &Soa, c: &Consts, w: &Parts, o: &mut Out, part
     }
 }
 
+/// [`Soa`] in f32, for the f32 variant.
+struct Soa32 {
+    x: Vec<f32>,
+    y: Vec<f32>,
+    vx: Vec<f32>,
+    vy: Vec<f32>,
+    rho: Vec<f32>,
+    vol: Vec<f32>,
+    s: [Vec<f32>; 4],
+    r: [Vec<f32>; 4],
+}
+
+impl Soa32 {
+    fn new(q: &Soa) -> Self {
+        let f = |v: &Vec<f64>| v.iter().map(|&a| a as f32).collect::<Vec<f32>>();
+        Soa32 {
+            x: f(&q.x),
+            y: f(&q.y),
+            vx: f(&q.vx),
+            vy: f(&q.vy),
+            rho: f(&q.rho),
+            vol: f(&q.vol),
+            s: [f(&q.s[0]), f(&q.s[1]), f(&q.s[2]), f(&q.s[3])],
+            r: [f(&q.r[0]), f(&q.r[1]), f(&q.r[2]), f(&q.r[3])],
+        }
+    }
+}
+
+/// Pass-1 results of the f32 variant.
+struct Out32 {
+    gx: Vec<f32>,
+    gy: Vec<f32>,
+    pi: Vec<f32>,
+    f: Vec<f32>,
+    kin: Vec<[f64; 5]>,
+    acc: Vec<[f64; 2]>,
+}
+
+impl Out32 {
+    fn new(slots: usize, n: usize) -> Self {
+        Self {
+            gx: vec![0.0; slots],
+            gy: vec![0.0; slots],
+            pi: vec![0.0; slots],
+            f: vec![0.0; slots],
+            kin: vec![[0.0; 5]; n],
+            acc: vec![[0.0; 2]; n],
+        }
+    }
+}
+
+/// Add the 8 f32 lanes of `v` to the 4 f64 lanes of `acc` (f64 sums of f32 pair terms).
+#[inline(always)]
+unsafe fn add_wide(
+    acc: std::arch::x86_64::__m256d,
+    v: std::arch::x86_64::__m256,
+) -> std::arch::x86_64::__m256d {
+    use std::arch::x86_64::*;
+    let lo = _mm256_cvtps_pd(_mm256_castps256_ps128(v));
+    let hi = _mm256_cvtps_pd(_mm256_extractf128_ps::<1>(v));
+    _mm256_add_pd(acc, _mm256_add_pd(lo, hi))
+}
+
+#[inline(always)]
+unsafe fn hsum_pd(v: std::arch::x86_64::__m256d) -> f64 {
+    let mut a = [0.0; 4];
+    std::arch::x86_64::_mm256_storeu_pd(a.as_mut_ptr(), v);
+    (a[0] + a[1]) + (a[2] + a[3])
+}
+
+/// Pass 1 with f32 pair geometry and arithmetic, 8 lanes, operands gathered by index
+/// (`vgatherdps`), the sums in f64; otherwise as [`pass1_avx2`].
+///
+/// # Safety
+/// As [`pass1_avx2`], slots in multiples of 8.
+#[target_feature(enable = "avx2,fma")]
+unsafe fn pass1_f32(p: &Pairs, q: &Soa32, c: &Consts, o: &mut Out32, parts: usize) {
+    use std::arch::x86_64::*;
+    let set = |v: f64| _mm256_set1_ps(v as f32);
+    let (zero, one, two, half) = (set(0.0), set(1.0), set(2.0), set(0.5));
+    let (r2max, inv_h, eta) = (set(c.r2max), set(c.inv_h), set(c.eta));
+    let (w0, c23, c15) = (set(c.w0), set(2.0 / 3.0), set(1.5));
+    let d_in_k = set(c.w0 * c.inv_h * c.inv_h);
+    let w_out_k = set(c.w0 / 6.0);
+    let d_out_k = set(-0.5 * c.w0 * c.inv_h);
+    let (hh, alpha_c, beta_h, inv_w_d0) =
+        (set(c.h), set(c.alpha_c), set(c.beta_h), set(c.inv_w_d0));
+    let zd = _mm256_setzero_pd();
+    for i in 0..parts {
+        let rhoi = _mm256_set1_ps(q.rho[i]);
+        let (xi, yi) = (_mm256_set1_ps(q.x[i]), _mm256_set1_ps(q.y[i]));
+        let (vxi, vyi) = (_mm256_set1_ps(q.vx[i]), _mm256_set1_ps(q.vy[i]));
+        let (mut k00, mut k01, mut k10, mut k11, mut cont) = (zd, zd, zd, zd, zd);
+        let mut s = p.off[i];
+        while s < p.off[i + 1] {
+            let vi = _mm256_loadu_si256(p.idx.as_ptr().add(s) as *const __m256i);
+            let g = |v: &Vec<f32>| _mm256_i32gather_ps::<4>(v.as_ptr(), vi);
+            let dx = _mm256_sub_ps(xi, g(&q.x));
+            let dy = _mm256_sub_ps(yi, g(&q.y));
+            let dvx = _mm256_sub_ps(vxi, g(&q.vx));
+            let dvy = _mm256_sub_ps(vyi, g(&q.vy));
+            let (rhoj, volj) = (g(&q.rho), g(&q.vol));
+            let r2 = _mm256_fmadd_ps(dx, dx, _mm256_mul_ps(dy, dy));
+            let m = _mm256_and_ps(
+                _mm256_cmp_ps::<_CMP_LT_OQ>(r2, r2max),
+                _mm256_cmp_ps::<_CMP_GT_OQ>(r2, zero),
+            );
+            let r = _mm256_sqrt_ps(r2);
+            let qq = _mm256_mul_ps(r, inv_h);
+            let t = _mm256_sub_ps(two, qq);
+            let q2 = _mm256_mul_ps(qq, qq);
+            let w_in = _mm256_mul_ps(w0, _mm256_fmadd_ps(q2, _mm256_fmsub_ps(half, qq, one), c23));
+            let d_in = _mm256_mul_ps(d_in_k, _mm256_fmsub_ps(c15, qq, two));
+            let t2 = _mm256_mul_ps(t, t);
+            let w_out = _mm256_mul_ps(w_out_k, _mm256_mul_ps(t2, t));
+            let rhom = _mm256_mul_ps(half, _mm256_add_ps(rhoi, rhoj));
+            let vx = _mm256_fmadd_ps(dvx, dx, _mm256_mul_ps(dvy, dy));
+            let d = _mm256_add_ps(r2, eta);
+            let dd = _mm256_mul_ps(_mm256_mul_ps(d, d), rhom);
+            let inv = _mm256_div_ps(one, _mm256_mul_ps(r, dd));
+            let inv_r = _mm256_mul_ps(inv, dd);
+            let inv_dd = _mm256_mul_ps(inv, r);
+            let d_out = _mm256_mul_ps(d_out_k, _mm256_mul_ps(t2, inv_r));
+            let pi = _mm256_mul_ps(
+                _mm256_mul_ps(hh, vx),
+                _mm256_mul_ps(
+                    _mm256_fmsub_ps(beta_h, vx, _mm256_mul_ps(alpha_c, d)),
+                    inv_dd,
+                ),
+            );
+            let pi = _mm256_and_ps(pi, _mm256_and_ps(m, _mm256_cmp_ps::<_CMP_LT_OQ>(vx, zero)));
+            let inner = _mm256_cmp_ps::<_CMP_LT_OQ>(qq, one);
+            let w = _mm256_and_ps(_mm256_blendv_ps(w_out, w_in, inner), m);
+            let dwr = _mm256_and_ps(_mm256_blendv_ps(d_out, d_in, inner), m);
+            let gx = _mm256_mul_ps(dx, dwr);
+            let gy = _mm256_mul_ps(dy, dwr);
+            let f = _mm256_mul_ps(w, inv_w_d0);
+            let f2 = _mm256_mul_ps(f, f);
+            _mm256_storeu_ps(o.gx.as_mut_ptr().add(s), gx);
+            _mm256_storeu_ps(o.gy.as_mut_ptr().add(s), gy);
+            _mm256_storeu_ps(o.pi.as_mut_ptr().add(s), pi);
+            _mm256_storeu_ps(o.f.as_mut_ptr().add(s), _mm256_mul_ps(f2, f2));
+            let (ux, uy) = (_mm256_mul_ps(dvx, volj), _mm256_mul_ps(dvy, volj));
+            k00 = add_wide(k00, _mm256_mul_ps(ux, gx));
+            k01 = add_wide(k01, _mm256_mul_ps(ux, gy));
+            k10 = add_wide(k10, _mm256_mul_ps(uy, gx));
+            k11 = add_wide(k11, _mm256_mul_ps(uy, gy));
+            cont = add_wide(cont, _mm256_fmadd_ps(dvx, gx, _mm256_mul_ps(dvy, gy)));
+            s += 8;
+        }
+        o.kin[i] = [
+            -hsum_pd(k00),
+            -hsum_pd(k01),
+            -hsum_pd(k10),
+            -hsum_pd(k11),
+            hsum_pd(cont),
+        ];
+    }
+}
+
+/// Pass 2 with f32 pair terms, 8 lanes, the neighbours' stresses gathered by index, the sums
+/// in f64; otherwise as [`pass2_avx2`].
+///
+/// # Safety
+/// As [`pass1_f32`].
+#[target_feature(enable = "avx2,fma")]
+unsafe fn pass2_f32(p: &Pairs, q: &Soa32, w: &Parts, o: &mut Out32, parts: usize) {
+    use std::arch::x86_64::*;
+    for i in 0..parts {
+        let si = w.s[i].map(|v| _mm256_set1_ps(v as f32));
+        let ri = w.r[i].map(|v| _mm256_set1_ps(v as f32));
+        let (mut ax, mut ay) = (_mm256_setzero_pd(), _mm256_setzero_pd());
+        let mut s = p.off[i];
+        while s < p.off[i + 1] {
+            let ld = |v: &Vec<f32>| _mm256_loadu_ps(v.as_ptr().add(s));
+            let (gx, gy, pi, f) = (ld(&o.gx), ld(&o.gy), ld(&o.pi), ld(&o.f));
+            let vi = _mm256_loadu_si256(p.idx.as_ptr().add(s) as *const __m256i);
+            let g = |v: &Vec<f32>| _mm256_i32gather_ps::<4>(v.as_ptr(), vi);
+            let t = |c: usize| {
+                let base = _mm256_add_ps(si[c], g(&q.s[c]));
+                let base = if c == 0 || c == 3 {
+                    _mm256_sub_ps(base, pi)
+                } else {
+                    base
+                };
+                _mm256_fmadd_ps(_mm256_add_ps(ri[c], g(&q.r[c])), f, base)
+            };
+            let (t0, t1, t2, t3) = (t(0), t(1), t(2), t(3));
+            ax = add_wide(ax, _mm256_fmadd_ps(t0, gx, _mm256_mul_ps(t2, gy)));
+            ay = add_wide(ay, _mm256_fmadd_ps(t1, gx, _mm256_mul_ps(t3, gy)));
+            s += 8;
+        }
+        o.acc[i] = [hsum_pd(ax), hsum_pd(ay)];
+    }
+}
+
 /// Per-particle values: rho_i, sigma_i/rho_i^2, R_i.
 struct Parts {
     rho: Vec<f64>,
@@ -348,7 +544,16 @@ impl Out {
 
 /// Lay out the pairs of `x` within `radius` (other than i itself) as contiguous slots, with
 /// made-up but physical stresses (a hydrostatic part and a shear) for pass 2.
-fn layout(x: &[Vec2], v: &[Vec2], rho: &[f64], mass: f64, radius: f64, cell: f64) -> Pairs {
+#[allow(clippy::too_many_arguments)]
+fn layout(
+    x: &[Vec2],
+    v: &[Vec2],
+    rho: &[f64],
+    mass: f64,
+    radius: f64,
+    cell: f64,
+    pad: usize,
+) -> Pairs {
     let dom = Domain::OPEN;
     let grid = CellGrid::build(x, cell, &dom);
     let list = NeighborList::build(&grid, x, x, radius, &dom);
@@ -393,7 +598,7 @@ fn layout(x: &[Vec2], v: &[Vec2], rho: &[f64], mass: f64, radius: f64, cell: f64
             k += 1;
         }
         p.real += k;
-        while k % 4 != 0 {
+        while k % pad != 0 {
             // Padding: far outside the support, masked off.
             push(1e3, 0.0, None);
             k += 1;
@@ -686,8 +891,9 @@ fn main() {
         beta_h: 0.6 * h,
         inv_w_d0: 1.0 / w_d0,
     };
-    let exact = layout(&x, &v, &rho, mass, 2.0 * h, 2.25 * h);
-    let skin = layout(&x, &v, &rho, mass, 2.25 * h, 2.25 * h);
+    let exact = layout(&x, &v, &rho, mass, 2.0 * h, 2.25 * h, 4);
+    let skin = layout(&x, &v, &rho, mass, 2.25 * h, 2.25 * h, 4);
+    let exact8 = layout(&x, &v, &rho, mass, 2.0 * h, 2.25 * h, 8);
     let parts = Parts {
         rho: rho.clone(),
         s: x.iter()
@@ -723,6 +929,8 @@ fn main() {
         runs.slots() as f64 / n as f64
     );
     let mut orn = Out::new(runs.slots(), n);
+    let soa32 = Soa32::new(&soa);
+    let mut o32 = Out32::new(exact8.slots(), n);
     let mut oe = Out::new(exact.slots(), n);
     let mut os = Out::new(skin.slots(), n);
     let resident = 16usize;
@@ -738,8 +946,10 @@ fn main() {
         "gather pass 2",
         "gather skin p1",
         "runs, both",
+        "f32 gather p1",
+        "f32 gather p2",
     ];
-    let mut best = [f64::INFINITY; 11];
+    let mut best = [f64::INFINITY; 13];
     let mut solver_best = f64::INFINITY;
     for round in 0..rounds {
         // ns per particle per call of each variant.
@@ -790,6 +1000,8 @@ fn main() {
                     n,
                 ),
                 per(timed(|| runs_avx2(&runs, &soa, &c, &parts, &mut orn, n)), n),
+                per(timed(|| pass1_f32(&exact8, &soa32, &c, &mut o32, n)), n),
+                per(timed(|| pass2_f32(&exact8, &soa32, &parts, &mut o32, n)), n),
             ]
         };
         for (b, g) in best.iter_mut().zip(got) {
@@ -845,11 +1057,29 @@ fn main() {
             );
         }
     }
+    // The f32 variant: the same sums to f32 accuracy (positions in f32 lose digits of x_ij).
+    // SAFETY: as above.
+    unsafe {
+        pass1_f32(&exact8, &soa32, &c, &mut o32, n);
+        pass2_f32(&exact8, &soa32, &parts, &mut o32, n);
+    }
+    let worst = (0..n)
+        .map(|i| {
+            (oe.acc[i][0] - o32.acc[i][0])
+                .abs()
+                .max((oe.acc[i][1] - o32.acc[i][1]).abs())
+        })
+        .fold(0.0, f64::max)
+        / scale_a;
+    println!(
+        "f32 variant: largest acceleration difference {worst:.1e} of the largest acceleration"
+    );
     // Keep the results alive (and check them finite).
     let check: f64 = oe.kin.iter().map(|k| k[4]).sum::<f64>()
         + oe.acc.iter().map(|a| a[0] + a[1]).sum::<f64>()
         + os.kin.iter().map(|k| k[0]).sum::<f64>()
-        + orn.acc.iter().map(|a| a[0] + a[1]).sum::<f64>();
+        + orn.acc.iter().map(|a| a[0] + a[1]).sum::<f64>()
+        + o32.acc.iter().map(|a| a[0] + a[1]).sum::<f64>();
     assert!(check.is_finite(), "non-finite sums");
     println!("min CPU ns per particle and evaluation over {rounds} rounds:");
     for (k, b) in names.iter().zip(best) {
@@ -884,6 +1114,10 @@ fn main() {
     println!(
         "  AVX2+FMA vector loads of index runs {:7.1} ns",
         2.0 * best[10]
+    );
+    println!(
+        "  f32 pairs (8 lanes), f64 sums, gathers {:4.1} ns",
+        step(best[11], best[12])
     );
     println!("solver (this library, whole step):   {solver_best:7.1} CPU ns per particle-step");
 }
