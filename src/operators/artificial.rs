@@ -66,7 +66,10 @@ pub fn fang_stress(eps: f64, sigma: &Mat2, rho: f64) -> Mat2 {
     }
     let (sxx, syy, sxy) = (sigma[(0, 0)], sigma[(1, 1)], sigma[(0, 1)]);
     let half_diff = 0.5 * (sxx - syy);
-    let radius = half_diff.hypot(sxy); // d / 2
+    // d / 2. A plain square root of the sum of squares, not `hypot`: libm's `hypot` took 4 % of
+    // a WCSPH step (issue 16's profile), and the stresses here are nowhere near the over- and
+    // underflow it guards against. It differs from `hypot` in the last bit or two.
+    let radius = (half_diff * half_diff + sxy * sxy).sqrt();
     let (cos2, sin2) = if radius > 0.0 {
         (half_diff / radius, sxy / radius)
     } else {
