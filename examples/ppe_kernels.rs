@@ -12,6 +12,7 @@
 //!   library's order: shows what the fixed sequential sum costs);
 //! * the ILU(0) factorisation and its two triangular solves, the library's against the loops
 //!   as they were before issue 16 (copied below as `baseline_*`), checked bitwise equal.
+//!
 //! Prints GB/s (10^9 bytes/s) and ns per stored entry.
 
 use std::hint::black_box;
