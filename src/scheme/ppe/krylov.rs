@@ -108,7 +108,7 @@ impl Factor {
                 // each written afresh by the scatter before its updates. Every stored entry
                 // receives the same updates in the same order as in the textbook loop (which
                 // looks each column up and branches), so the factors are bitwise the same.
-                // Measured (examples/ppe_kernels.rs): several times faster.
+                // Measured (examples/ppe_kernels.rs, 1e4 and 1e5 rows): 1.4-1.7x faster.
                 let mut lu = a.val.clone();
                 let mut w = vec![0.0f64; n];
                 for i in 0..n {
