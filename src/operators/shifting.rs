@@ -66,7 +66,7 @@ pub fn concentration_gradient<K: Kernel>(
     repulsion: &[bool],
 ) -> Vec<Vec2> {
     let w_dr = kernel.w(dr);
-    let alpha = 32.0 / (PI * kernel.h());
+    let alpha = cohesion_alpha(kernel.h());
     (0..n)
         .into_par_iter()
         .map(|i| {
@@ -80,15 +80,35 @@ pub fn concentration_gradient<K: Kernel>(
                     continue;
                 }
                 let (w, f) = kernel.w_and_dw_over_r(r);
-                let t = w / w_dr;
-                g += (1.0 + 0.25 * t * t * t * t) * vol[j] * f * xij;
+                g += gradient_term(w, f, w_dr, vol[j], xij);
                 if use_q {
-                    g -= alpha * cohesion_q(r / (2.0 * dr)) * xij / r;
+                    g -= cohesion_term(alpha, r, dr, xij);
                 }
             }
             g
         })
         .collect()
+}
+
+/// One pair's term of eq. (42)'s concentration gradient, with the anti-clumping factor:
+/// `(1 + 0.25 (W / W(dr))^4) V_j (1/r) dW/dr x_ij` (w = W_ij, f = (1/r) dW/dr, w_dr = W(dr)).
+#[inline]
+pub fn gradient_term(w: f64, f: f64, w_dr: f64, vol_j: f64, xij: Vec2) -> Vec2 {
+    let t = w / w_dr;
+    (1.0 + 0.25 * t * t * t * t) * vol_j * f * xij
+}
+
+/// One pair's repulsion Q of eqs. (42)-(43), subtracted from the gradient: `alpha q(r / 2dr)
+/// x_ij / r` with `alpha = 32 / (pi h)`.
+#[inline]
+pub fn cohesion_term(alpha: f64, r: f64, dr: f64, xij: Vec2) -> Vec2 {
+    alpha * cohesion_q(r / (2.0 * dr)) * xij / r
+}
+
+/// `alpha` of [`cohesion_term`] for smoothing length `h`.
+#[inline]
+pub fn cohesion_alpha(h: f64) -> f64 {
+    32.0 / (PI * h)
 }
 
 /// Shift coefficient D dt for internal flows (eq. (41), first line): h^2 / 4.

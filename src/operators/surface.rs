@@ -70,6 +70,33 @@ pub fn detect<K: Kernel>(
             (div, (c, g * inv_h))
         })
         .unzip();
+    detect_from_sums(
+        div_r,
+        concentration,
+        n_star,
+        x,
+        vol,
+        nl,
+        kernel,
+        domain,
+        n_fluid,
+    )
+}
+
+/// The rest of [`detect`] from its per-particle sums (div r, C and n* of eqs. (36)-(38)), for a
+/// scheme that gathers them in a pass it makes anyway (ISPH's fused neighbour pass).
+#[allow(clippy::too_many_arguments)]
+pub fn detect_from_sums<K: Kernel>(
+    div_r: Vec<f64>,
+    concentration: Vec<f64>,
+    n_star: Vec<Vec2>,
+    x: &[Vec2],
+    vol: &[f64],
+    nl: &NeighborList,
+    kernel: &K,
+    domain: &Domain,
+    n_fluid: usize,
+) -> Surface {
     let mean_c = crate::operators::sums::fixed_sum(&concentration) / n_fluid.max(1) as f64;
     let is_surface: Vec<bool> = (0..n_fluid)
         .map(|i| div_r[i] <= threshold(concentration[i] / mean_c))

@@ -448,35 +448,106 @@ struct Pairs {
     morris: Vec<f64>,
 }
 
-fn pair_data<K: Kernel>(
+/// What one fused pass over the neighbour lists gives (step 2 of the module documentation).
+struct NeighbourSums {
+    pairs: Pairs,
+    /// Bonet & Lok correction matrices L_i (King & Lind eq. (22)).
+    l: Vec<Mat2>,
+    /// Free surface and normals (eqs. (36)-(39)), with a free surface.
+    surface: Option<surface::Surface>,
+    /// Concentration gradient of eq. (42) without and with the repulsion Q (Lagrangian frame;
+    /// empty otherwise): which one a particle takes is known only once the surface is.
+    grad_c: Vec<Vec2>,
+    grad_c_q: Vec<Vec2>,
+}
+
+/// The pair data (gradients and Morris coefficients), the moment matrices, the sums of the
+/// free-surface detection and the shifting's concentration gradient of every fluid particle, in
+/// one pass over its neighbour list that evaluates the kernel once per pair. Before, five
+/// passes (`pair_data`, `correction::correction_matrices`, `surface::detect`,
+/// `shifting::concentration_gradient`) each evaluated the quintic's three pieces again; every
+/// sum keeps its own order and expression (the operators' per-pair helpers), so the results
+/// are bitwise those of the separate passes. `shift_dr` = Some(dr) computes the shifting sums.
+#[allow(clippy::too_many_arguments)]
+fn neighbour_sums(
     x: &[Vec2],
-    vol: f64,
+    vols: &[f64],
     nl: &NeighborList,
-    k: &K,
+    k: &QuinticSpline,
     dom: &crate::neighbors::Domain,
-) -> Pairs {
+    n: usize,
+    free_surface: bool,
+    shift_dr: Option<f64>,
+) -> NeighbourSums {
     let mut grad = vec![Vec2::zeros(); nl.pairs()];
     let mut morris = vec![0.0; nl.pairs()];
     let gs = nl.split_mut(&mut grad);
     let ms = nl.split_mut(&mut morris);
-    (gs, ms)
+    let inv_h = 1.0 / k.h();
+    let (w_dr, alpha, dr) = match shift_dr {
+        Some(dr) => (k.w(dr), shifting::cohesion_alpha(k.h()), dr),
+        None => (1.0, 0.0, 1.0),
+    };
+    type Row = (Mat2, (f64, f64, Vec2), (Vec2, Vec2));
+    let rows: Vec<Row> = (gs, ms)
         .into_par_iter()
         .with_min_len(MIN_TASK)
         .enumerate()
-        .for_each(|(i, (g, m))| {
+        .map(|(i, (g, m))| {
+            let mut mom = Mat2::zeros();
+            let (mut div, mut c, mut cg) = (0.0, 0.0, Vec2::zeros());
+            let (mut sh, mut sh_q) = (Vec2::zeros(), Vec2::zeros());
             for (kk, &j) in nl.of(i).iter().enumerate() {
                 let j = j as usize;
                 let xij = dom.delta(&x[i], &x[j]);
                 let r2 = xij.norm_squared();
-                if j == i || r2 == 0.0 {
-                    continue;
+                let r = r2.sqrt();
+                let (w, f) = (k.w(r), k.dw_over_r(r));
+                let gij = xij * f;
+                // Pair data: zero for the self pair.
+                if j != i && r2 != 0.0 {
+                    g[kk] = gij;
+                    m[kk] = 2.0 * vols[j] * f;
                 }
-                let f = k.dw_over_r(r2.sqrt());
-                g[kk] = xij * f;
-                m[kk] = 2.0 * vol * f;
+                // Moment matrix M_i: x_ji (x) grad W_ij = -x_ij g^T.
+                mom -= vols[j] * xij * gij.transpose();
+                if free_surface {
+                    div -= vols[j] * xij.dot(&gij);
+                    c += vols[j] * w;
+                    cg += vols[j] * gij;
+                }
+                if shift_dr.is_some() && j != i && r != 0.0 {
+                    let t = shifting::gradient_term(w, f, w_dr, vols[j], xij);
+                    sh += t;
+                    sh_q += t;
+                    sh_q -= shifting::cohesion_term(alpha, r, dr, xij);
+                }
             }
-        });
-    Pairs { grad, morris }
+            (mom, (div, c, cg * inv_h), (sh, sh_q))
+        })
+        .collect();
+    let l = rows
+        .iter()
+        .map(|r| correction::invert_or_identity(&r.0))
+        .collect();
+    let surface = free_surface.then(|| {
+        let div_r = rows.iter().map(|r| r.1 .0).collect();
+        let conc = rows.iter().map(|r| r.1 .1).collect();
+        let n_star = rows.iter().map(|r| r.1 .2).collect();
+        surface::detect_from_sums(div_r, conc, n_star, x, vols, nl, k, dom, n)
+    });
+    let (grad_c, grad_c_q) = if shift_dr.is_some() {
+        rows.iter().map(|r| r.2).unzip()
+    } else {
+        (Vec::new(), Vec::new())
+    };
+    NeighbourSums {
+        pairs: Pairs { grad, morris },
+        l,
+        surface,
+        grad_c,
+        grad_c_q,
+    }
 }
 
 /// Corrected velocity gradients kappa_ab = d u_a / d x_b (King & Lind eq. (20), negative form,
@@ -565,11 +636,17 @@ impl<R: Rheology> Scheme for Isph<R> {
         let grid = CellGrid::build(all_x, radius, &dom);
         let nl = NeighborList::build(&grid, all_x, &xs, radius, &dom);
         let vols = vec![vol; all_x.len()];
-        let pairs = pair_data(all_x, vol, &nl, &self.kernel, &dom);
-        let mut l = correction::correction_matrices(all_x, &vols, &nl, &self.kernel, &dom);
-        let surf = self
-            .free_surface
-            .then(|| surface::detect(all_x, &vols, &nl, &self.kernel, &dom, n));
+        let sums = neighbour_sums(
+            all_x,
+            &vols,
+            &nl,
+            &self.kernel,
+            &dom,
+            n,
+            self.free_surface,
+            lagrangian.then_some(dx),
+        );
+        let (pairs, mut l, surf) = (sums.pairs, sums.l, sums.surface);
         // Free-surface particles take the uncorrected gradient (module documentation).
         if let Some(s) = &surf {
             for (li, &fs) in l.iter_mut().zip(&s.is_surface) {
@@ -599,23 +676,26 @@ impl<R: Rheology> Scheme for Isph<R> {
         let extend_u = |u: &[Vec2]| extend_over_mirrors(u, &parent, &u_wall, &u_curv);
         let u_n = extend_u(&fl.v);
         let u_ps: Vec<Vec2> = if lagrangian {
-            let (repulsion, d): (Vec<bool>, Vec<f64>) = match &surf {
+            // The repulsion Q acts on the interior particles of a free-surface flow (eq. (42)).
+            let (grad_c, d): (Vec<Vec2>, Vec<f64>) = match &surf {
                 Some(s) => (
-                    s.is_surface.iter().map(|&b| !b).collect(),
+                    s.is_surface
+                        .iter()
+                        .enumerate()
+                        .map(
+                            |(i, &fs)| {
+                                if fs {
+                                    sums.grad_c[i]
+                                } else {
+                                    sums.grad_c_q[i]
+                                }
+                            },
+                        )
+                        .collect(),
                     shifting::coefficients_free_surface(&fl.v, h, dt),
                 ),
-                None => (Vec::new(), vec![shifting::coefficient_internal(h); n]),
+                None => (sums.grad_c, vec![shifting::coefficient_internal(h); n]),
             };
-            let grad_c = shifting::concentration_gradient(
-                all_x,
-                &vols,
-                &nl,
-                &self.kernel,
-                &dom,
-                dx,
-                n,
-                &repulsion,
-            );
             let s = surf
                 .as_ref()
                 .map(|s| (s.is_surface.as_slice(), s.normal.as_slice()));

@@ -100,33 +100,39 @@ impl Factor {
             Preconditioner::Jacobi => Ok(Factor::Jacobi(inv_diag(a)?)),
             Preconditioner::Ssor => Ok(Factor::Ssor(inv_diag(a)?)),
             Preconditioner::Ilu0 => {
-                // IKJ variant (Saad 2003, Algorithm 10.4), sequential in row order.
+                // IKJ variant (Saad 2003, Algorithm 10.4), sequential in row order, with the
+                // current row scattered into a dense work row `w` indexed by column. The updates
+                // from row k go to every column of k's upper part without asking whether row i
+                // stores it: a column outside row i's pattern (a fill-in ILU(0) drops) collects
+                // a value that is never read, since `w` is read only at row i's own columns,
+                // each written afresh by the scatter before its updates. Every stored entry
+                // receives the same updates in the same order as in the textbook loop (which
+                // looks each column up and branches), so the factors are bitwise the same.
+                // Measured (examples/ppe_kernels.rs, 1e4 and 1e5 rows): 1.4-1.7x faster.
                 let mut lu = a.val.clone();
-                let mut pos = vec![usize::MAX; n];
+                let mut w = vec![0.0f64; n];
                 for i in 0..n {
-                    let (s, e) = (a.row_ptr[i], a.row_ptr[i + 1]);
-                    for p in s..e {
-                        pos[a.col[p] as usize] = p;
+                    let (s, d, e) = (a.row_ptr[i], a.diag[i], a.row_ptr[i + 1]);
+                    for (&c, &v) in a.col[s..e].iter().zip(&a.val[s..e]) {
+                        w[c as usize] = v;
                     }
-                    for p in s..a.diag[i] {
-                        let k = a.col[p] as usize;
+                    for &k in &a.col[s..d] {
+                        let k = k as usize;
                         let ukk = lu[a.diag[k]];
                         if ukk == 0.0 || !ukk.is_finite() {
                             return Err(SolveError::ZeroPivot { row: k });
                         }
-                        let lik = lu[p] / ukk;
-                        lu[p] = lik;
-                        for q in a.diag[k] + 1..a.row_ptr[k + 1] {
-                            let t = pos[a.col[q] as usize];
-                            if t != usize::MAX {
-                                lu[t] -= lik * lu[q];
-                            }
+                        let lik = w[k] / ukk;
+                        w[k] = lik;
+                        let (u0, u1) = (a.diag[k] + 1, a.row_ptr[k + 1]);
+                        for (&c, &ukc) in a.col[u0..u1].iter().zip(&lu[u0..u1]) {
+                            w[c as usize] -= lik * ukc;
                         }
                     }
-                    for p in s..e {
-                        pos[a.col[p] as usize] = usize::MAX;
+                    for (&c, v) in a.col[s..e].iter().zip(&mut lu[s..e]) {
+                        *v = w[c as usize];
                     }
-                    let d = lu[a.diag[i]];
+                    let d = lu[d];
                     if d == 0.0 || !d.is_finite() {
                         return Err(SolveError::ZeroPivot { row: i });
                     }
@@ -170,19 +176,24 @@ impl Factor {
                 }
             }
             Factor::Ilu0(lu) => {
+                // L z' = r then U z = z', each row a sequential sum in column order; slices per
+                // row so the inner loops index only `z`.
+                let (rp, col, dg) = (&a.row_ptr, &a.col, &a.diag);
                 for i in 0..n {
+                    let (s0, d) = (rp[i], dg[i]);
                     let mut s = r[i];
-                    for p in a.row_ptr[i]..a.diag[i] {
-                        s -= lu[p] * z[a.col[p] as usize];
+                    for (&c, &l) in col[s0..d].iter().zip(&lu[s0..d]) {
+                        s -= l * z[c as usize];
                     }
                     z[i] = s;
                 }
                 for i in (0..n).rev() {
+                    let (d, e) = (dg[i], rp[i + 1]);
                     let mut s = z[i];
-                    for p in a.diag[i] + 1..a.row_ptr[i + 1] {
-                        s -= lu[p] * z[a.col[p] as usize];
+                    for (&c, &u) in col[d + 1..e].iter().zip(&lu[d + 1..e]) {
+                        s -= u * z[c as usize];
                     }
-                    z[i] = s / lu[a.diag[i]];
+                    z[i] = s / lu[d];
                 }
             }
         }

@@ -420,3 +420,75 @@ fn implicit_viscous_step_damps_a_mode_by_the_backward_euler_factor() {
         }
     }
 }
+
+/// `solve_viscous` assembles the matrix once and gives the second component only its right-hand
+/// side (`helmholtz_rhs`): its velocities must be bitwise those of assembling and solving each
+/// component on its own, with moving walls (nonzero ghost offsets in both components) and a
+/// disordered set, so that a change to `assemble` that `helmholtz_rhs` does not follow fails here.
+#[test]
+fn viscous_components_share_the_matrix_bitwise() {
+    let dr = 0.1;
+    let (nx, ny) = (12, 10);
+    let h = ny as f64 * dr;
+    let set = channel(nx, ny, dr, 0.12, 3.0 * 1.3 * dr, 9);
+    let (nl, c) = coefs(&set);
+    let wall = Vec2::new(1.5, -0.4);
+    let offset: Vec<Vec2> = (0..set.parent.len())
+        .map(|m| {
+            if set.reflected[m] && set.x[set.n_fluid + m].y > h {
+                2.0 * wall
+            } else {
+                Vec2::zeros()
+            }
+        })
+        .collect();
+    assert!(offset.iter().any(|o| o.x != 0.0 && o.y != 0.0));
+    let sign = set.signs_no_slip();
+    let n = set.n_fluid;
+    let rhs: Vec<Vec2> = (0..n)
+        .map(|i| Vec2::new((i as f64 * 0.37).sin(), (i as f64 * 0.11).cos()))
+        .collect();
+    let opts = SolverOptions::default();
+    let dt_nu = 2.0 * dr * dr;
+    let mut u = rhs.clone();
+    solve_viscous(
+        n,
+        &nl,
+        &c,
+        dt_nu,
+        &set.parent,
+        &sign,
+        &offset,
+        &rhs,
+        &mut u,
+        &opts,
+    )
+    .unwrap();
+    for comp in 0..2 {
+        let off: Vec<f64> = offset.iter().map(|o| o[comp]).collect();
+        let b: Vec<f64> = rhs.iter().map(|r| r[comp]).collect();
+        let ghosts = GhostLink {
+            parent: &set.parent,
+            sign: &sign,
+            offset: &off,
+        };
+        let sys = assemble_helmholtz(n, &nl, &c, dt_nu, &ghosts, &b);
+        assert_eq!(
+            helmholtz_rhs(n, &nl, &c, -dt_nu, &ghosts, &b)
+                .iter()
+                .map(|v| v.to_bits())
+                .collect::<Vec<_>>(),
+            sys.rhs.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+            "component {comp}: right-hand side"
+        );
+        let mut x = b.clone();
+        solve(&sys, &mut x, &opts).unwrap();
+        for (i, (xi, ui)) in x.iter().zip(&u).enumerate() {
+            assert_eq!(
+                xi.to_bits(),
+                ui[comp].to_bits(),
+                "component {comp}, row {i}"
+            );
+        }
+    }
+}
