@@ -456,6 +456,7 @@ fn sheet_decay_rate(dt: f64, t0: f64, t1: f64) -> f64 {
 #[test]
 fn free_sheet_resists_extension_with_the_surface_traction() {
     let rate = sheet_decay_rate(2e-4, 0.005, 0.025);
+    eprintln!("sheet rate {rate}");
     assert!(
         (2.5..3.9).contains(&rate),
         "extensional mode decays at {rate} nu k^2 (exact 3.87)"

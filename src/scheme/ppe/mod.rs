@@ -418,6 +418,15 @@ pub struct SurfaceTraction<'a> {
     pub transposed: f64,
 }
 
+impl SurfaceTraction<'_> {
+    /// The coefficient matrix of `u_j - u_i` in the rows of particle i for its stored pair
+    /// `p`: `E_ij = along (w_ij . k_i) I + transposed w_ij k_i^T`.
+    pub fn pair(&self, i: usize, p: usize) -> Mat2 {
+        let (w, k) = (self.w[p], self.k[i]);
+        Mat2::identity() * (self.along * w.dot(&k)) + w * k.transpose() * self.transposed
+    }
+}
+
 /// The implicit viscous step with the surface traction: `(I - dt nu lap) u - dt T(u) / rho =
 /// rhs` for both components at once, unknowns interleaved (`2 i + c`), one BiCGStab + ILU(0)
 /// solve. Ghosts as in [`solve_viscous`] (the same sign for both components). Rows without a
@@ -458,8 +467,7 @@ pub fn solve_viscous_coupled(
             ];
             let mut b = rhs[i];
             let mut diag = 1.0;
-            let ki = surf.k[i];
-            let with_surface = ki != Vec2::zeros();
+            let with_surface = surf.k[i] != Vec2::zeros();
             // e_cd: the surface term's coefficient of (u_j - u_i)_d in row (i, c).
             let mut e_ii = Mat2::zeros();
             for (kk, &j) in nl.of(i).iter().enumerate() {
@@ -469,9 +477,7 @@ pub fn solve_viscous_coupled(
                 }
                 let a = -dt_nu * coef[off + kk];
                 let e = if with_surface {
-                    let w = surf.w[off + kk];
-                    Mat2::identity() * (surf.along * w.dot(&ki))
-                        + w * ki.transpose() * surf.transposed
+                    surf.pair(i, off + kk)
                 } else {
                     Mat2::zeros()
                 };
