@@ -427,6 +427,9 @@ impl SurfaceTraction<'_> {
     }
 }
 
+/// The two rows (x and y components) of one particle, as (column, value) lists.
+type RowPair = [Vec<(u32, f64)>; 2];
+
 /// The implicit viscous step with the surface traction: `(I - dt nu lap) u - dt T(u) / rho =
 /// rhs` for both components at once, unknowns interleaved (`2 i + c`), one BiCGStab + ILU(0)
 /// solve. Ghosts as in [`solve_viscous`] (the same sign for both components). Rows without a
@@ -457,7 +460,7 @@ pub fn solve_viscous_coupled(
             ghost_offset.get(m).copied().unwrap_or_else(Vec2::zeros),
         )
     };
-    let per_particle: Vec<([Vec<(u32, f64)>; 2], Vec2)> = (0..n_fluid)
+    let per_particle: Vec<(RowPair, Vec2)> = (0..n_fluid)
         .into_par_iter()
         .map(|i| {
             let off = nl.offset(i);
