@@ -62,23 +62,24 @@ fn largest_volume_error(ppd: i64, threads: i64) -> f64 {
 
 /// The free-surface pressure (p = 0 on the surface of the layer the surface particles stand
 /// for, not on their centres) and the density-invariant PPE source hold the drop's covered area
-/// at W/dr = 40: largest |error| over t* <= 8 measured 1.02 %; 1.7 % with p = 0 on the surface
-/// particles, 3.4 % without the source either (docs/isph.md, "Volume"). The 0.5 % of the issue
-/// holds from W/dr = 80 (bench), not at this resolution.
+/// at W/dr = 40: largest |error| over t* <= 8 measured 0.64 % with the solvent's surface traction
+/// (1.02 % without it); 1.7 % with p = 0 on the surface particles, 3.4 % without the source
+/// either (docs/isph.md, "Volume"). The 0.5 % of the issue holds from W/dr = 80 (0.35 %), not at
+/// this resolution.
 #[test]
 fn free_surface_pressure_and_density_source_hold_the_volume() {
     let worst = largest_volume_error(40, 2);
-    assert!(worst < 0.0125, "largest |volume_error| {worst}");
+    assert!(worst < 0.008, "largest |volume_error| {worst}");
 }
 
 /// At W/dr = 20 the surface row is a large share of the particles, and with p = 0 on the
 /// surface particles it crowded tangentially: the drop lost 5.3 % of its covered area by t* = 8.
-/// With the surface pressure the largest |error| is 2.7 % (just after impact) and the end value
-/// 0.0 %.
+/// With the surface pressure the largest |error| was 2.7 % (just after impact), with the
+/// solvent's surface traction 1.84 %.
 #[test]
 fn surface_row_does_not_crowd_at_coarse_resolution() {
     let worst = largest_volume_error(20, 1);
-    assert!(worst < 0.03, "largest |volume_error| {worst}");
+    assert!(worst < 0.022, "largest |volume_error| {worst}");
 }
 
 /// Oldroyd-B, De = 1, beta = 0.1 (lambda = 0.02 s): the drop spreads, then retracts (King & Lind
@@ -295,13 +296,14 @@ fn every_rheology_spreads_the_drop() {
 /// a viscous liquid of viscosity eta0. UCM broke at impact before ISPH raised alpha_V so that
 /// the compact Laplacian carries 0.05 eta0 (`MIN_COMPACT_VISCOSITY_RATIO`) and limited the step
 /// by EVSS's explicit part. Tolerances, measured at W/dr = 20 over t* <= 4: UCM against
-/// Oldroyd-B 1.3 % (2 % allowed: the two differ by beta = 0.1 of the viscosity, in the
+/// Oldroyd-B 0.4 % (2 % allowed: the two differ by beta = 0.1 of the viscosity, in the
 /// Laplacian either way); each against the Newtonian drop of the same eta0 at a comparable step
-/// (time_step_factor 0.1) 8.4 % and 9.4 % (10 % allowed). That gap is not elasticity (Oldroyd-B at
-/// De = 0.01 spreads within 0.5 % of De = 0.1): the polymer's viscous stress goes through the
-/// positive-form divergence of the corrected gradients, the Newtonian one through Morris'
-/// Laplacian, and the two treat the free surface differently (docs/isph.md, "Low solvent
-/// viscosity").
+/// (time_step_factor 0.1) 6.4 % and 6.8 % (7.5 % allowed), the largest at impact (t* = 0.8);
+/// at t* = 4 they are within 1.5 %. Before the solvent's surface traction entered the implicit
+/// viscous step the gap was 8.4 % and 9.4 % and the Newtonian drop the wider at the end: the
+/// polymer's viscous stress goes through the positive-form divergence of the corrected
+/// gradients, which carries the free surface's traction, the Newtonian one through Morris'
+/// Laplacian, which did not (docs/isph.md, "The solvent's free-surface traction").
 #[test]
 fn low_deborah_drops_spread_like_the_viscous_drop() {
     let t_end = 4.0 * T_STAR;
@@ -343,12 +345,12 @@ fn low_deborah_drops_spread_like_the_viscous_drop() {
     }
     assert!(rel(&ucm, &ob) < 0.02, "UCM vs Oldroyd-B {}", rel(&ucm, &ob));
     assert!(
-        rel(&ob, &newt) < 0.10,
+        rel(&ob, &newt) < 0.075,
         "Oldroyd-B vs Newtonian {}",
         rel(&ob, &newt)
     );
     assert!(
-        rel(&ucm, &newt) < 0.10,
+        rel(&ucm, &newt) < 0.075,
         "UCM vs Newtonian {}",
         rel(&ucm, &newt)
     );
