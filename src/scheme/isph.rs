@@ -133,7 +133,7 @@
 //!   gradient G_i of the new velocity, both components solved together. Measured on the
 //!   extensional mode of a free sheet (exact decay 3.87 nu k^2): 1.74 without, 2.68 with, at
 //!   0.2 ms; the Newtonian Re = 4 drop's W*(8) at W/dr = 40 and a third of the step 1.987 ->
-//!   1.872 (Oldroyd-B at De = 0.1: 1.80), largest |volume_error| at the default step 1.02 % ->
+//!   1.858 (Oldroyd-B at De = 0.1: 1.80), largest |volume_error| at the default step 1.02 % ->
 //!   0.64 % (docs/isph.md). The term is not a pair force; a free surface exerts no net
 //!   force, so the term's mean velocity change is removed after the solve (without that, a
 //!   slowly settling drop felt 3 % of its weight from it).
