@@ -62,23 +62,24 @@ fn largest_volume_error(ppd: i64, threads: i64) -> f64 {
 
 /// The free-surface pressure (p = 0 on the surface of the layer the surface particles stand
 /// for, not on their centres) and the density-invariant PPE source hold the drop's covered area
-/// at W/dr = 40: largest |error| over t* <= 8 measured 1.02 %; 1.7 % with p = 0 on the surface
-/// particles, 3.4 % without the source either (docs/isph.md, "Volume"). The 0.5 % of the issue
-/// holds from W/dr = 80 (bench), not at this resolution.
+/// at W/dr = 40: largest |error| over t* <= 8 measured 0.64 % with the solvent's surface traction
+/// (1.02 % without it); 1.7 % with p = 0 on the surface particles, 3.4 % without the source
+/// either (docs/isph.md, "Volume"). The 0.5 % of the issue holds from W/dr = 80 (0.35 %), not at
+/// this resolution.
 #[test]
 fn free_surface_pressure_and_density_source_hold_the_volume() {
     let worst = largest_volume_error(40, 2);
-    assert!(worst < 0.0125, "largest |volume_error| {worst}");
+    assert!(worst < 0.008, "largest |volume_error| {worst}");
 }
 
 /// At W/dr = 20 the surface row is a large share of the particles, and with p = 0 on the
 /// surface particles it crowded tangentially: the drop lost 5.3 % of its covered area by t* = 8.
-/// With the surface pressure the largest |error| is 2.7 % (just after impact) and the end value
-/// 0.0 %.
+/// With the surface pressure the largest |error| was 2.7 % (just after impact), with the
+/// solvent's surface traction 1.84 %.
 #[test]
 fn surface_row_does_not_crowd_at_coarse_resolution() {
     let worst = largest_volume_error(20, 1);
-    assert!(worst < 0.03, "largest |volume_error| {worst}");
+    assert!(worst < 0.022, "largest |volume_error| {worst}");
 }
 
 /// Oldroyd-B, De = 1, beta = 0.1 (lambda = 0.02 s): the drop spreads, then retracts (King & Lind
@@ -295,13 +296,14 @@ fn every_rheology_spreads_the_drop() {
 /// a viscous liquid of viscosity eta0. UCM broke at impact before ISPH raised alpha_V so that
 /// the compact Laplacian carries 0.05 eta0 (`MIN_COMPACT_VISCOSITY_RATIO`) and limited the step
 /// by EVSS's explicit part. Tolerances, measured at W/dr = 20 over t* <= 4: UCM against
-/// Oldroyd-B 1.3 % (2 % allowed: the two differ by beta = 0.1 of the viscosity, in the
+/// Oldroyd-B 0.4 % (2 % allowed: the two differ by beta = 0.1 of the viscosity, in the
 /// Laplacian either way); each against the Newtonian drop of the same eta0 at a comparable step
-/// (time_step_factor 0.1) 8.4 % and 9.4 % (10 % allowed). That gap is not elasticity (Oldroyd-B at
-/// De = 0.01 spreads within 0.5 % of De = 0.1): the polymer's viscous stress goes through the
-/// positive-form divergence of the corrected gradients, the Newtonian one through Morris'
-/// Laplacian, and the two treat the free surface differently (docs/isph.md, "Low solvent
-/// viscosity").
+/// (time_step_factor 0.1) 6.4 % and 6.8 % (7.5 % allowed), the largest at impact (t* = 0.8);
+/// at t* = 4 they are within 1.5 %. Before the solvent's surface traction entered the implicit
+/// viscous step the gap was 8.4 % and 9.4 % and the Newtonian drop the wider at the end: the
+/// polymer's viscous stress goes through the positive-form divergence of the corrected
+/// gradients, which carries the free surface's traction, the Newtonian one through Morris'
+/// Laplacian, which did not (docs/isph.md, "The solvent's free-surface traction").
 #[test]
 fn low_deborah_drops_spread_like_the_viscous_drop() {
     let t_end = 4.0 * T_STAR;
@@ -343,12 +345,12 @@ fn low_deborah_drops_spread_like_the_viscous_drop() {
     }
     assert!(rel(&ucm, &ob) < 0.02, "UCM vs Oldroyd-B {}", rel(&ucm, &ob));
     assert!(
-        rel(&ob, &newt) < 0.10,
+        rel(&ob, &newt) < 0.075,
         "Oldroyd-B vs Newtonian {}",
         rel(&ob, &newt)
     );
     assert!(
-        rel(&ucm, &newt) < 0.10,
+        rel(&ucm, &newt) < 0.075,
         "UCM vs Newtonian {}",
         rel(&ucm, &newt)
     );
@@ -371,4 +373,94 @@ fn evss_is_raised_only_below_a_twentieth_of_the_viscosity() {
     let b = OldroydB::new(5.0, 0.02, 0.02);
     let a = isph_evss_alpha(&b, 0.0);
     assert!((a * b.polymer_viscosity() - 0.15).abs() < 1e-12, "{a}");
+}
+
+/// Decay rate of the extensional mode u = U sin(kx) of a free Newtonian sheet, periodic in x
+/// (100 dx long, 10 rows thick: kH = pi/10), no gravity, at step `dt`: the slope of the log of
+/// the mode's amplitude `2/N sum u_i sin(k x_i)` between `t0` and `t1`, in units of nu k^2.
+fn sheet_decay_rate(dt: f64, t0: f64, t1: f64) -> f64 {
+    use viscosph::neighbors::Domain;
+    use viscosph::particles::Fluid;
+    use viscosph::rheology::Newtonian;
+    use viscosph::scheme::isph::Isph;
+    use viscosph::scheme::params::Params;
+    use viscosph::scheme::Scheme;
+    use viscosph::State;
+    let (dx, nx, ny) = (1e-3, 100usize, 10usize);
+    let (rho, eta, u0) = (1000.0, 5.0, 1e-3);
+    let l = nx as f64 * dx;
+    let k = 2.0 * std::f64::consts::PI / l;
+    let mut fl = Fluid {
+        mass: rho * dx * dx,
+        ..Default::default()
+    };
+    for j in 0..ny {
+        for i in 0..nx {
+            let x = Vec2::new(
+                (i as f64 + 0.5) * dx,
+                (j as f64 + 0.5 - 0.5 * ny as f64) * dx,
+            );
+            fl.x.push(x);
+            // Divergence-free: v = -U k y cos(kx).
+            fl.v.push(Vec2::new(
+                u0 * (k * x.x).sin(),
+                -u0 * k * x.y * (k * x.x).cos(),
+            ));
+            fl.rho.push(rho);
+        }
+    }
+    let c = cfg(&[("rheology", s("newtonian")), ("viscosity", r(eta))]);
+    let mut p = Params::from_config(&c);
+    p.gravity = Vec2::zeros();
+    p.domain = Domain::periodic_x(l);
+    p.dx = dx;
+    p.eos.rho0 = rho;
+    let mut scheme = Isph::new(Newtonian::new(eta), p, &c, &[]);
+    let mut st = State::new(fl, Vec::new());
+    let amplitude = |st: &State| {
+        let n = st.fluid.len() as f64;
+        st.fluid
+            .x
+            .iter()
+            .zip(&st.fluid.v)
+            .map(|(x, v)| v.x * (k * x.x).sin())
+            .sum::<f64>()
+            * 2.0
+            / n
+    };
+    let mut a0 = None;
+    while st.time < t1 - 1e-12 {
+        if a0.is_none() && st.time >= t0 - 1e-12 {
+            a0 = Some((st.time, amplitude(&st)));
+        }
+        let max_dt = dt.min(t1 - st.time);
+        let h = scheme.step(&mut st, max_dt).unwrap();
+        st.time += h;
+        st.step += 1;
+    }
+    let (ta, aa) = a0.unwrap();
+    let a1 = amplitude(&st);
+    assert!(a1 > 0.0 && aa > 0.0, "{aa} -> {a1}");
+    let nu = eta / rho;
+    -(a1 / aa).ln() / (st.time - ta) / (nu * k * k)
+}
+
+/// The solvent's free-surface traction (King & Lind 2021 eq. (35a)'s viscous part, made
+/// implicit in the viscous solve): a free Newtonian sheet resists extension with the planar
+/// Trouton viscosity 4 eta. The long-wave extensional mode u = U sin(kx) of a sheet of
+/// thickness 2H without surface tension decays at s = -nu (k^2 + mu^2), mu the smallest
+/// positive root of (k^2 - mu^2)^2 cosh(kH) sin(mu H) = 4 k^3 mu sinh(kH) cos(mu H) (linear
+/// Stokes modes of a free viscous sheet with traction-free faces): 3.87 nu k^2 at kH = pi/10,
+/// 4 nu k^2 as kH -> 0. Measured at dt = 0.2 ms: 2.68 nu k^2 with the traction term, 1.74 with
+/// Morris' Laplacian alone (main before this term, where the free surface only imposes p = 0:
+/// an extensional viscosity of about 1.8 eta). What is still missing at this step is the
+/// splitting of the viscous step from the projection: 3.02 at dt = 0.05 ms, 1.97 at 1 ms.
+#[test]
+fn free_sheet_resists_extension_with_the_surface_traction() {
+    let rate = sheet_decay_rate(2e-4, 0.005, 0.025);
+    eprintln!("sheet rate {rate}");
+    assert!(
+        (2.5..3.9).contains(&rate),
+        "extensional mode decays at {rate} nu k^2 (exact 3.87)"
+    );
 }

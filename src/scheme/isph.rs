@@ -124,6 +124,19 @@
 //!   W/dr = 20), and nothing returned its particles to the bulk: largest |volume_error| of the
 //!   Newtonian drop 5.32 %, 1.76 %, 0.62 % at W/dr = 20, 40, 80; now 2.73 %, 1.02 %, 0.39 %
 //!   (docs/isph.md, "Volume").
+//! * **Free-surface traction** of the solvent, implicit (King & Lind 2021 eq. (35a)'s viscous
+//!   part in a stable form; [`ppe::SurfaceTraction`]): Morris et al. 1997's Laplacian (21) sees
+//!   a missing neighbour as one with the particle's own velocity, i.e. the normal derivative,
+//!   not the traction; the positive form of the divergence of 2 eta D differs from the
+//!   difference form by `2 sigma_i s_i`, `s_i = sum_j V grad W_ij`. Every row of the implicit
+//!   viscous step takes `(2 eta_i / rho) (G_i + G_i^T) s_i` with the Bonet & Lok 1999 corrected
+//!   gradient G_i of the new velocity, both components solved together. Measured on the
+//!   extensional mode of a free sheet (exact decay 3.87 nu k^2): 1.74 without, 2.68 with, at
+//!   0.2 ms; the Newtonian Re = 4 drop's W*(8) at W/dr = 40 and a third of the step 1.987 ->
+//!   1.858 (Oldroyd-B at De = 0.1: 1.80), largest |volume_error| at the default step 1.02 % ->
+//!   0.64 % (docs/isph.md). The term is not a pair force; a free surface exerts no net
+//!   force, so the term's mean velocity change is removed after the solve (without that, a
+//!   slowly settling drop felt 3 % of its weight from it).
 //! * **Uncorrected gradients on the free surface.** There the Bonet & Lok moment matrix (22) is
 //!   nearly singular along the normal, and L_i amplified the velocity gradient that drives the
 //!   stress: the Oldroyd-B drop above blew up at impact (tr A = 5000 at t* = 0.8) with L_i on
@@ -239,6 +252,17 @@ const MIN_TASK: usize = 64;
 /// largest centre-line error 0.2 % against 2.7 % with backward Euler (theta = 1). Free-surface
 /// scenes keep backward Euler (`Isph::new`).
 const VISCOUS_THETA_CLOSED: f64 = 0.5;
+
+/// Weights of the solvent's free-surface traction in the implicit viscous step
+/// ([`ppe::SurfaceTraction`]): `(2 eta / rho) (along G + transposed G^T) s_i` on every row, the
+/// difference between the positive form of div(2 eta D) and the difference form, with G the
+/// Bonet & Lok 1999 corrected velocity gradient (module documentation, "Free-surface
+/// traction"). Measured on the extensional mode of a free Newtonian sheet (kH = pi/10, exact
+/// decay rate 3.87 nu k^2, test `free_sheet_resists_extension_with_the_surface_traction`), at
+/// dt = 5e-5 / 2e-4 / 1e-3 s: Morris' Laplacian alone 1.84 / 1.74 / 1.47 nu k^2; G^T s only
+/// (along = 0) 2.79 / 2.54 / 1.92; both 3.02 / 2.68 / 1.97 (kept).
+const SURFACE_TRACTION_ALONG: f64 = 1.0;
+const SURFACE_TRACTION_TRANSPOSED: f64 = 1.0;
 
 /// Wall-clock time spent in the parts of the step (for `viscosph bench`), seconds.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -928,6 +952,33 @@ impl<R: Rheology> Scheme for Isph<R> {
             wall_on_fluid += aw * mass;
             rhs.push(fl.v[i] + (remap + a + g_pred) * dt);
         }
+        if explicit && self.free_surface {
+            // The solvent's surface traction, explicit (the implicit solve's
+            // SurfaceTraction term on u^n): 2 mu_i (G_i + G_i^T) s_i / rho, its mean removed.
+            let acc: Vec<Vec2> = (0..n)
+                .into_par_iter()
+                .with_min_len(MIN_TASK)
+                .map(|i| {
+                    if is_held(i) {
+                        return Vec2::zeros();
+                    }
+                    let off = nl.offset(i);
+                    let s_i = pairs.grad[off..off + nl.of(i).len()]
+                        .iter()
+                        .fold(Vec2::zeros(), |a, g| a + g * vol);
+                    let sym = SURFACE_TRACTION_ALONG * kappa[i]
+                        + SURFACE_TRACTION_TRANSPOSED * kappa[i].transpose();
+                    sym * s_i * (2.0 * mu[i] / rho)
+                })
+                .collect();
+            let free = (0..n).filter(|&i| !is_held(i)).count().max(1);
+            let mean = acc.iter().fold(Vec2::zeros(), |a, f| a + f) / free as f64;
+            for (i, r) in rhs.iter_mut().enumerate() {
+                if !is_held(i) {
+                    *r += (acc[i] - mean) * dt;
+                }
+            }
+        }
         let mut iters = [0u64; 2];
         let u_star: Vec<Vec2> = if explicit {
             rhs
@@ -952,22 +1003,101 @@ impl<R: Rheology> Scheme for Isph<R> {
                 .map(|(w, c)| 2.0 * w + c)
                 .collect();
             let mut u = rhs.clone();
-            let stats = ppe::solve_viscous(
-                n,
-                &nl,
-                &coef,
-                theta * dt / rho,
-                &parent,
-                &sign,
-                &offset,
-                &rhs,
-                &mut u,
-                &self.solver,
-            )
-            .map_err(|e| format!("implicit viscous step: {e}"))?;
-            iters[1] = (stats[0].iterations + stats[1].iterations) as u64;
+            if surf.is_some() {
+                // The solvent's surface traction, implicit (module documentation, "Free-surface
+                // traction"): every row, k_i = 2 mu_i dt s_i / rho with s_i = sum_j V grad W_ij
+                // (zero in a full support on a lattice); not on the inlet's held particles.
+                let k: Vec<Vec2> = (0..n)
+                    .into_par_iter()
+                    .with_min_len(MIN_TASK)
+                    .map(|i| {
+                        if is_held(i) {
+                            return Vec2::zeros();
+                        }
+                        let off = nl.offset(i);
+                        let s_i: Vec2 = pairs.grad[off..off + nl.of(i).len()]
+                            .iter()
+                            .fold(Vec2::zeros(), |a, g| a + g * vol);
+                        s_i * (2.0 * mu[i] * theta * dt / rho)
+                    })
+                    .collect();
+                let mut w = pairs.grad.clone();
+                nl.split_mut(&mut w)
+                    .into_par_iter()
+                    .enumerate()
+                    .for_each(|(i, wi)| {
+                        for g in wi.iter_mut() {
+                            *g = l[i] * *g * vol;
+                        }
+                    });
+                let st_fs = ppe::SurfaceTraction {
+                    k: &k,
+                    w: &w,
+                    along: SURFACE_TRACTION_ALONG,
+                    transposed: SURFACE_TRACTION_TRANSPOSED,
+                };
+                let stats = ppe::solve_viscous_coupled(
+                    n,
+                    &nl,
+                    &coef,
+                    theta * dt / rho,
+                    &parent,
+                    &sign,
+                    &offset,
+                    &rhs,
+                    &mut u,
+                    &st_fs,
+                    &self.solver,
+                )
+                .map_err(|e| format!("implicit viscous step: {e}"))?;
+                iters[1] = stats.iterations as u64;
+                // The free surface exerts no net force on the fluid, but this term is not a
+                // pair force and its sum does not cancel (about 3 % of the weight of a slowly
+                // settling drop, eta = 40 Pa s): its mean is removed, a uniform velocity
+                // change that no gradient sees (module documentation).
+                let ue = extend_over_mirrors(&u, &parent, &u_wall, visc_curv);
+                let net: Vec<Vec2> = (0..n)
+                    .into_par_iter()
+                    .with_min_len(MIN_TASK)
+                    .map(|i| {
+                        let off = nl.offset(i);
+                        let mut f = Vec2::zeros();
+                        for (kk, &j) in nl.of(i).iter().enumerate() {
+                            if j as usize != i {
+                                f += st_fs.pair(i, off + kk) * (ue[j as usize] - ue[i]);
+                            }
+                        }
+                        f
+                    })
+                    .collect();
+                let free: usize = (0..n).filter(|&i| !is_held(i)).count();
+                if free > 0 {
+                    let mean = net.iter().fold(Vec2::zeros(), |a, f| a + f) / free as f64;
+                    for (i, ui) in u.iter_mut().enumerate() {
+                        if !is_held(i) {
+                            *ui -= mean;
+                        }
+                    }
+                }
+            } else {
+                let stats = ppe::solve_viscous(
+                    n,
+                    &nl,
+                    &coef,
+                    theta * dt / rho,
+                    &parent,
+                    &sign,
+                    &offset,
+                    &rhs,
+                    &mut u,
+                    &self.solver,
+                )
+                .map_err(|e| format!("implicit viscous step: {e}"))?;
+                iters[1] = (stats[0].iterations + stats[1].iterations) as u64;
+            }
             // The momentum the solve changed is the mirrors' viscous force: the fluid-fluid
-            // coefficients are symmetric, so their share cancels pair by pair.
+            // coefficients are symmetric, so their share cancels pair by pair (and the surface
+            // term's net has been removed).
             for (ui, ri) in u.iter().zip(&rhs) {
                 wall_on_fluid += (ui - ri) * (mass / dt);
             }
