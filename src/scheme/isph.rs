@@ -952,6 +952,15 @@ impl<R: Rheology> Scheme for Isph<R> {
             wall_on_fluid += aw * mass;
             rhs.push(fl.v[i] + (remap + a + g_pred) * dt);
         }
+        // s_i = sum_j V_j grad_i W_ij: about -n / delta where the support is truncated, zero
+        // in a full lattice support; the surface traction's weight (module documentation,
+        // "Free-surface traction").
+        let surface_sum = |i: usize| -> Vec2 {
+            let off = nl.offset(i);
+            pairs.grad[off..off + nl.of(i).len()]
+                .iter()
+                .fold(Vec2::zeros(), |a, g| a + g * vol)
+        };
         if explicit && self.free_surface {
             // The solvent's surface traction, explicit (the implicit solve's
             // SurfaceTraction term on u^n): 2 mu_i (G_i + G_i^T) s_i / rho, its mean removed.
@@ -962,10 +971,7 @@ impl<R: Rheology> Scheme for Isph<R> {
                     if is_held(i) {
                         return Vec2::zeros();
                     }
-                    let off = nl.offset(i);
-                    let s_i = pairs.grad[off..off + nl.of(i).len()]
-                        .iter()
-                        .fold(Vec2::zeros(), |a, g| a + g * vol);
+                    let s_i = surface_sum(i);
                     let sym = SURFACE_TRACTION_ALONG * kappa[i]
                         + SURFACE_TRACTION_TRANSPOSED * kappa[i].transpose();
                     sym * s_i * (2.0 * mu[i] / rho)
@@ -1014,11 +1020,7 @@ impl<R: Rheology> Scheme for Isph<R> {
                         if is_held(i) {
                             return Vec2::zeros();
                         }
-                        let off = nl.offset(i);
-                        let s_i: Vec2 = pairs.grad[off..off + nl.of(i).len()]
-                            .iter()
-                            .fold(Vec2::zeros(), |a, g| a + g * vol);
-                        s_i * (2.0 * mu[i] * theta * dt / rho)
+                        surface_sum(i) * (2.0 * mu[i] * theta * dt / rho)
                     })
                     .collect();
                 let mut w = pairs.grad.clone();
