@@ -986,6 +986,12 @@ impl<R: Rheology> Scheme for Isph<R> {
                 .iter()
                 .fold(Vec2::zeros(), |a, g| a + g * vol)
         };
+        // The surface traction is not a pair force, so its sum does not cancel; a free surface
+        // exerts no net force, so the mean over the free (not held) particles is removed.
+        let mean_over_free = |v: &[Vec2]| -> Vec2 {
+            let free = (0..n).filter(|&i| !is_held(i)).count().max(1);
+            v.iter().fold(Vec2::zeros(), |a, f| a + f) / free as f64
+        };
         if explicit && self.free_surface {
             // The solvent's surface traction, explicit (the implicit solve's
             // SurfaceTraction term on u^n): 2 mu_i (G_i + G_i^T) s_i / rho, its mean removed.
@@ -1002,8 +1008,7 @@ impl<R: Rheology> Scheme for Isph<R> {
                     sym * s_i * (2.0 * mu[i] / rho)
                 })
                 .collect();
-            let free = (0..n).filter(|&i| !is_held(i)).count().max(1);
-            let mean = acc.iter().fold(Vec2::zeros(), |a, f| a + f) / free as f64;
+            let mean = mean_over_free(&acc);
             for (i, r) in rhs.iter_mut().enumerate() {
                 if !is_held(i) {
                     *r += (acc[i] - mean) * dt;
@@ -1097,13 +1102,10 @@ impl<R: Rheology> Scheme for Isph<R> {
                         f
                     })
                     .collect();
-                let free: usize = (0..n).filter(|&i| !is_held(i)).count();
-                if free > 0 {
-                    let mean = net.iter().fold(Vec2::zeros(), |a, f| a + f) / free as f64;
-                    for (i, ui) in u.iter_mut().enumerate() {
-                        if !is_held(i) {
-                            *ui -= mean;
-                        }
+                let mean = mean_over_free(&net);
+                for (i, ui) in u.iter_mut().enumerate() {
+                    if !is_held(i) {
+                        *ui -= mean;
                     }
                 }
             } else {
