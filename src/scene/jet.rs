@@ -377,6 +377,23 @@ impl Scene for Jet {
     }
 }
 
+/// What a user who runs the jet under ISPH is told once (the CLI's `viscosph run` on stderr,
+/// the FMU's log under `logStatusWarning` when it leaves initialization mode): at the
+/// resolutions that run in minutes ISPH's free surface does not hold the falling column
+/// together, so its jet is not King & Lind's (docs/methods.md, "The buckling jet", gives the
+/// measurements and the causes).
+pub const ISPH_WARNING: &str = "the jet under scheme = isph is not trustworthy at the \
+     resolutions that run in minutes: with p = 0 on its free surface the falling column dilates \
+     and tears, reaches the plate about 30 % early (Newtonian, H = 12 D, 6 across: 0.144 s \
+     against WCSPH's 0.225 s) and does not buckle; scheme = wcsph (the jet's default) \
+     reproduces the buckling. See docs/methods.md, \"The buckling jet\"";
+
+/// [`ISPH_WARNING`] when `cfg` runs the jet under ISPH, else None.
+pub fn isph_warning(cfg: &SceneConfig) -> Option<&'static str> {
+    (cfg.scene == crate::config::Scene::Jet && cfg.scheme == SchemeKind::Isph)
+        .then_some(ISPH_WARNING)
+}
+
 /// What a record of `jet_deflection` says about buckling (see [`buckling`]).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Buckling {
