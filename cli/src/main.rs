@@ -93,7 +93,12 @@ fn main() -> ExitCode {
             }
             opts.stop = Some(stop);
             match viscosph::Simulation::new(cfg.clone()) {
-                Ok(sim) => println!("{}", sound_speed_text(&cfg, sim.effective_config())),
+                Ok(sim) => {
+                    println!("{}", sound_speed_text(&cfg, sim.effective_config()));
+                    if let Some(w) = viscosph::scene::jet::isph_warning(&cfg) {
+                        eprintln!("warning: {w}");
+                    }
+                }
                 Err(e) => {
                     eprintln!("error: {e}");
                     return ExitCode::from(2);

@@ -305,3 +305,26 @@ fn sigint_stops_the_run_and_keeps_its_files() {
 fn sigterm_stops_the_run_and_keeps_its_files() {
     interrupted_run("-TERM");
 }
+
+#[test]
+fn the_jet_under_isph_warns_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |scheme: &str| {
+        let (out, _) = run_20ms(
+            dir.path(),
+            &format!(
+                "scene = \"jet\"\nscheme = \"{scheme}\"\nrheology = \"newtonian\"\n\
+                 particles_per_diameter = 4\n"
+            ),
+        );
+        assert!(out.status.success(), "{out:?}");
+        String::from_utf8_lossy(&out.stderr).into_owned()
+    };
+    let err = run("isph");
+    assert_eq!(err.matches("warning:").count(), 1, "{err}");
+    assert!(
+        err.contains("does not buckle") && err.contains("docs/methods.md"),
+        "{err}"
+    );
+    assert!(!run("wcsph").contains("warning:"));
+}

@@ -463,6 +463,9 @@ impl Instance {
                         s.cfg.dx()
                     ),
                 );
+                if let Some(w) = crate::scene::jet::isph_warning(&s.cfg) {
+                    s.log(Category::Warning, Status::Warning, w);
+                }
                 Ok(Status::Ok)
             },
         )
@@ -1135,6 +1138,38 @@ mod tests {
             msg.contains("particles_per_diameter") && msg.contains("memory"),
             "{msg}"
         );
+    }
+
+    #[test]
+    fn the_jet_under_isph_warns_once_at_initialization() {
+        let twin = |name: &str| vr(name) + crate::config::NAME_VR_OFFSET;
+        let warnings = |scheme: &str| {
+            let (mut i, log) = instance(true);
+            assert_eq!(
+                i.set_string(
+                    &[twin("scene"), twin("scheme")],
+                    &[Some("jet".into()), Some(scheme.into())]
+                ),
+                Status::Ok
+            );
+            i.set_integer(&[vr("particles_per_diameter")], &[4]);
+            assert_eq!(i.enter_initialization_mode(), Status::Ok);
+            assert_eq!(i.exit_initialization_mode(), Status::Ok);
+            assert_eq!(i.do_step(0.0, 1e-3), Status::Ok);
+            let l = log.borrow();
+            l.iter()
+                .filter(|(st, cat, _)| *st == Status::Warning && cat == "logStatusWarning")
+                .map(|(_, _, m)| m.clone())
+                .collect::<Vec<_>>()
+        };
+        let w = warnings("isph");
+        assert_eq!(w.len(), 1, "{w:?}");
+        assert!(
+            w[0].contains("does not buckle") && w[0].contains("docs/methods.md"),
+            "{}",
+            w[0]
+        );
+        assert!(warnings("wcsph").is_empty());
     }
 
     #[test]

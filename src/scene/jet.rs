@@ -377,6 +377,24 @@ impl Scene for Jet {
     }
 }
 
+/// What a user who runs the jet under ISPH is told once (the CLI's `viscosph run` on stderr,
+/// the FMU's log under `logStatusWarning` when it leaves initialization mode): at the
+/// resolutions that run in minutes ISPH's free surface (p = 0 instead of King & Lind 2021
+/// eq. (35a)'s tension) does not hold the falling column together, and at no resolution tried
+/// does its jet buckle (docs/methods.md, "The buckling jet", gives the measurements).
+pub const ISPH_WARNING: &str = "the jet under scheme = isph is not King & Lind's: at 6-10 \
+     particles across its falling column dilates and tears (p = 0 on the free surface), so it \
+     reaches the plate about 30 % early (Newtonian, H = 12 D, 6 across: 0.142 s against \
+     WCSPH's 0.225 s), and it does not buckle at any resolution tried (6-20 across); \
+     scheme = wcsph (the jet's default) reproduces the buckling. See docs/methods.md, \
+     \"The buckling jet\"";
+
+/// [`ISPH_WARNING`] when `cfg` runs the jet under ISPH, else None.
+pub fn isph_warning(cfg: &SceneConfig) -> Option<&'static str> {
+    (cfg.scene == crate::config::Scene::Jet && cfg.scheme == SchemeKind::Isph)
+        .then_some(ISPH_WARNING)
+}
+
 /// What a record of `jet_deflection` says about buckling (see [`buckling`]).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Buckling {
