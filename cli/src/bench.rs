@@ -1072,52 +1072,62 @@ pub fn rheology_cases() -> Vec<(RheologyKind, SceneConfig)> {
         .collect()
 }
 
+/// Fang's drop (De = 1, beta = 0.1) with every rheology under every scheme the solver builds
+/// (issue 11: ISPH in the rheology benchmark like the other schemes): one table with a scheme
+/// column, one CSV, and one W*(t*)/H*(t*) figure per scheme (`rheologies_<scheme>.png`, like
+/// King & Lind 2021 Fig. 16).
 fn bench_rheologies(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::Error>> {
     let ppd = if quick { 12 } else { 30 };
-    let mut runs = Vec::new();
-    let mut md = String::from("| rheology | first peak W* | t* of peak | W* at t* = 8 | H* at t* = 8 | max tr(A) | wall time [s] | breakdown |\n|---|---|---|---|---|---|---|---|\n");
-    let mut csv = String::from("rheology,time,t_star,w_star,h_star\n");
-    for (r, mut c) in rheology_cases() {
-        c.particles_per_diameter = ppd;
-        let opts = RunOptions::for_scene(&c);
-        eprintln!("bench rheologies: {r} ...");
-        let res = run(&c, &opts)?;
-        let ts = time_scale(&c);
-        let d = c.drop_diameter;
-        let w: Vec<(f64, f64)> = res
-            .series
-            .iter()
-            .map(|(t, o)| (t / ts, o.drop_width / d))
-            .collect();
-        let (peak_w, peak_t) = match first_peak(&w) {
-            Some((t, w)) => (format!("{w:.3}"), format!("{t:.2}")),
-            None => ("none (keeps spreading)".to_string(), "-".to_string()),
-        };
-        let last = res.series.last().expect("series").1;
-        writeln!(
-            md,
-            "| {r} | {peak_w} | {peak_t} | {:.3} | {:.3} | {} | {:.2} | {} |",
-            last.drop_width / d,
-            last.drop_height / d,
-            res.max_trace_text(),
-            res.wall_seconds,
-            res.error_text()
-        )?;
-        for (t, o) in &res.series {
+    let mut md = String::from("| scheme | rheology | first peak W* | t* of peak | W* at t* = 8 | H* at t* = 8 | max tr(A) | wall time [s] | breakdown |\n|---|---|---|---|---|---|---|---|---|\n");
+    let mut csv = String::from("scheme,rheology,time,t_star,w_star,h_star\n");
+    for scheme in built_schemes() {
+        let mut runs = Vec::new();
+        for (r, mut c) in rheology_cases() {
+            c.particles_per_diameter = ppd;
+            c.scheme = scheme;
+            let opts = RunOptions::for_scene(&c);
+            eprintln!("bench rheologies: {scheme} {r} ...");
+            let res = run(&c, &opts)?;
+            let ts = time_scale(&c);
+            let d = c.drop_diameter;
+            let w: Vec<(f64, f64)> = res
+                .series
+                .iter()
+                .map(|(t, o)| (t / ts, o.drop_width / d))
+                .collect();
+            let (peak_w, peak_t) = match first_peak(&w) {
+                Some((t, w)) => (format!("{w:.3}"), format!("{t:.2}")),
+                None => ("none (keeps spreading)".to_string(), "-".to_string()),
+            };
+            let last = res.series.last().expect("series").1;
             writeln!(
-                csv,
-                "{r},{t:.6e},{:.4},{:.5},{:.5}",
-                t / ts,
-                o.drop_width / d,
-                o.drop_height / d
+                md,
+                "| {scheme} | {r} | {peak_w} | {peak_t} | {:.3} | {:.3} | {} | {:.2} | {} |",
+                last.drop_width / d,
+                last.drop_height / d,
+                res.max_trace_text(),
+                res.wall_seconds,
+                res.error_text()
             )?;
+            for (t, o) in &res.series {
+                writeln!(
+                    csv,
+                    "{scheme},{r},{t:.6e},{:.4},{:.5},{:.5}",
+                    t / ts,
+                    o.drop_width / d,
+                    o.drop_height / d
+                )?;
+            }
+            runs.push((r.to_string(), res.series));
         }
-        runs.push((r.to_string(), res.series));
+        let cfg = SceneConfig {
+            scheme,
+            ..Default::default()
+        };
+        let refs: Vec<(String, &[(f64, Outputs)])> =
+            runs.iter().map(|(n, s)| (n.clone(), &s[..])).collect();
+        crate::run::plot_width_height(&out.join(format!("rheologies_{scheme}.png")), &cfg, &refs)?;
     }
-    let cfg = SceneConfig::default();
-    let refs: Vec<(String, &[(f64, Outputs)])> =
-        runs.iter().map(|(n, s)| (n.clone(), &s[..])).collect();
-    crate::run::plot_width_height(&out.join("rheologies.png"), &cfg, &refs)?;
     std::fs::write(out.join("rheologies.csv"), &csv)?;
     std::fs::write(out.join("rheologies.md"), &md)?;
     Ok(md)
@@ -1221,7 +1231,11 @@ const REPORT_SECTIONS: &[(&str, &str, &str, &[&str])] = &[
         "Every rheology on Fang's drop",
         "viscosph bench rheologies",
         "rheologies.md",
-        &["rheologies.png"],
+        &[
+            "rheologies_wcsph.png",
+            "rheologies_pdri.png",
+            "rheologies_isph.png",
+        ],
     ),
     (
         "Channel: start-up Poiseuille flow (King & Lind section IV.A)",

@@ -69,10 +69,13 @@ fn drop_throughput_rheologies_and_report() {
     png(&out.join("throughput.png"));
 
     let md = bench(&["rheologies"], out);
-    for r in viscosph::config::RHEOLOGIES {
-        assert!(md.contains(&format!("| {} |", r.0)), "{} missing", r.0);
+    for s in ["wcsph", "pdri", "isph"] {
+        for r in viscosph::config::RHEOLOGIES {
+            let row = format!("| {s} | {} |", r.0);
+            assert!(md.contains(&row), "{row} missing");
+        }
+        png(&out.join(format!("rheologies_{s}.png")));
     }
-    png(&out.join("rheologies.png"));
 
     let docs = out.join("docs");
     let o = Command::new(env!("CARGO_BIN_EXE_viscosph"))
@@ -97,8 +100,8 @@ fn drop_throughput_rheologies_and_report() {
         report.contains(&format!("Measured on commit {}.", head.trim())),
         "the sections name the commit they were measured on"
     );
-    assert!(report.contains("| newtonian |") && report.contains("cost ratio"));
-    assert!(docs.join("bench/rheologies.png").exists());
+    assert!(report.contains("| isph | newtonian |") && report.contains("cost ratio"));
+    assert!(docs.join("bench/rheologies_isph.png").exists());
 }
 
 #[test]
