@@ -151,3 +151,47 @@ fn accuracy_and_stability() {
     png(&out.join("stability_de_wcsph.png"));
     png(&out.join("stability_beta.png"));
 }
+
+/// `bench isph --quick`: the explicit step's row has no viscous solve ("-"), the convergence
+/// sentences stand below one unbroken table, the implicit and explicit drops spread alike at
+/// this coarse resolution, and every pair of the cross-scheme table is there.
+#[test]
+fn isph_table_convergence_and_cross_scheme() {
+    let dir = tempfile::tempdir().unwrap();
+    let md = bench(&["isph"], dir.path());
+    let explicit = md
+        .lines()
+        .find(|l| l.starts_with("| explicit |"))
+        .expect("explicit row");
+    let cells: Vec<&str> = explicit.split('|').map(str::trim).collect();
+    assert_eq!((cells[7], cells[9]), ("-", "-"), "{explicit}");
+    let table: Vec<&str> = md
+        .lines()
+        .skip_while(|l| !l.starts_with("| viscous step"))
+        .take_while(|l| l.starts_with('|'))
+        .collect();
+    assert_eq!(table.len(), 2 + 2 + 3 + 3, "one table: {md}");
+    assert_eq!(md.matches("observed order").count(), 2, "{md}");
+    let w_end = |l: &str| -> f64 {
+        l.split('|')
+            .map(str::trim)
+            .nth(10)
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    let implicit = table
+        .iter()
+        .find(|l| l.starts_with("| implicit | 16 |"))
+        .unwrap();
+    assert!((w_end(implicit) - w_end(explicit)).abs() < 0.2, "{md}");
+    for s in [
+        "isph",
+        "wcsph",
+        "pdri",
+        "wcsph, alpha = 0",
+        "pdri, alpha = 0",
+    ] {
+        assert!(md.contains(&format!("| {s} |")), "{s} missing: {md}");
+    }
+}
