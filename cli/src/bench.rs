@@ -207,16 +207,23 @@ fn bench_isph(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::Err
         let n = r.steps.max(1) as f64;
         let (w_end, vmax) = (r.w_star_end(), r.max_volume_error());
         let tot = r.timings.total.max(1e-12);
+        // The explicit viscous step has no viscous solve: "-", not "0.0" and "0 %".
+        let (visc_iters, visc_share) = if r.iterations[1] == 0 {
+            ("-".to_string(), "-".to_string())
+        } else {
+            (
+                format!("{:.1}", r.iterations[1] as f64 / n),
+                format!("{:.0} %", 100.0 * r.timings.viscous_solve / tot),
+            )
+        };
         writeln!(
             md,
-            "| {step} | {ppd} | {} | {} | {:.2} | {:.1} | {:.1} | {:.0} % | {:.0} % | {w_end:.3} | {:.2} % |{}",
+            "| {step} | {ppd} | {} | {} | {:.2} | {:.1} | {visc_iters} | {:.0} % | {visc_share} | {w_end:.3} | {:.2} % |{}",
             r.particles,
             r.steps,
             r.wall,
             r.iterations[0] as f64 / n,
-            r.iterations[1] as f64 / n,
             100.0 * r.timings.pressure_solve / tot,
-            100.0 * r.timings.viscous_solve / tot,
             100.0 * vmax,
             r.error.as_ref().map(|e| format!(" broke down: {e}")).unwrap_or_default()
         )?;
@@ -240,15 +247,32 @@ fn bench_isph(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::Err
         let r = isph_run(&cfg, t_star_end)?;
         row(&mut md, &mut csv, "speed", step, speed_ppd, &r)?;
     }
-    let ppds: &[i64] = if quick { &[10, 14, 20] } else { &[20, 40, 80] };
     // At the default step (h / |u|-limited, so it shrinks with h: temporal and spatial error
-    // mixed) and at a third of it (docs/isph.md: the default step's temporal error dominates).
-    for (factor, label, file) in [
-        (0.3, "implicit", "isph_convergence.csv"),
+    // mixed) up to the paper's production resolution W/dr = 120, and at a third of it to 80
+    // (docs/isph.md: the default step's temporal error dominates; W/dr = 120 at the small step
+    // would take about an hour here).
+    // The convergence sentences go below the table, so that its rows stay one table.
+    let mut notes = String::new();
+    for (factor, label, file, ppds) in [
+        (
+            0.3,
+            "implicit",
+            "isph_convergence.csv",
+            if quick {
+                &[10, 14, 20][..]
+            } else {
+                &[20, 40, 80, 120][..]
+            },
+        ),
         (
             0.1,
             "implicit, time_step_factor 0.1",
             "isph_convergence_small_step.csv",
+            if quick {
+                &[10, 14, 20][..]
+            } else {
+                &[20, 40, 80][..]
+            },
         ),
     ] {
         let mut runs = Vec::new();
@@ -262,14 +286,28 @@ fn bench_isph(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::Err
         }
         if runs.iter().all(|r| r.error.is_none()) {
             let d = 0.02;
-            let e1 = max_width_difference(&runs[0].series, &runs[1].series, d);
-            let e2 = max_width_difference(&runs[1].series, &runs[2].series, d);
-            writeln!(
-            md,
-            "\nConvergence of W*(t*), {label}, t* <= {t_star_end} (max norm): |W*_{} - W*_{}| = {e1:.4}, |W*_{} - W*_{}| = {e2:.4}, observed order {:.2}.",
-            ppds[0], ppds[1], ppds[1], ppds[2],
-            observed_order(&runs[0].series, &runs[1].series, &runs[2].series, d)
-        )?;
+            let diffs: Vec<f64> = runs
+                .windows(2)
+                .map(|w| max_width_difference(&w[0].series, &w[1].series, d))
+                .collect();
+            write!(
+                notes,
+                "\nConvergence of W*(t*), {label}, t* <= {t_star_end} (max norm):"
+            )?;
+            for (k, e) in diffs.iter().enumerate() {
+                write!(notes, " |W*_{} - W*_{}| = {e:.4};", ppds[k], ppds[k + 1])?;
+            }
+            let orders: Vec<String> = (0..diffs.len().saturating_sub(1))
+                .map(|k| {
+                    let p = order_from_differences(
+                        [ppds[k], ppds[k + 1], ppds[k + 2]].map(|v| v as f64),
+                        diffs[k],
+                        diffs[k + 1],
+                    );
+                    format!("{p:.2} ({}-{}-{})", ppds[k], ppds[k + 1], ppds[k + 2])
+                })
+                .collect();
+            writeln!(notes, " observed order {}.", orders.join(", "))?;
             let mut series = String::from("t_star");
             for &p in ppds {
                 write!(series, ",w_star_{p}")?;
@@ -285,6 +323,7 @@ fn bench_isph(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::Err
             std::fs::write(out.join(file), series)?;
         }
     }
+    md.push_str(&notes);
     cross_scheme(out, quick, t_star_end, &mut md)?;
     std::fs::write(out.join("isph.csv"), csv)?;
     std::fs::write(out.join("isph.md"), &md)?;
@@ -428,6 +467,42 @@ pub fn drop_convergence(
 
 /// Observed order of convergence from three resolutions refined by a factor of 2
 /// (Richardson): p = log2(|W_c - W_m| / |W_m - W_f|) in the max norm over the common times.
+/// The order p of a quantity converging as C h^p, from its differences between three
+/// resolutions `ppd` (particles per width, h ~ 1 / ppd) that need not double:
+/// e1 / e2 = (h1^p - h2^p) / (h2^p - h3^p), solved by bisection on p in [-4, 8] (the ratio rises
+/// with p). With doubling resolutions it is log2(e1 / e2). NaN when the differences give no
+/// positive ratio.
+pub fn order_from_differences(ppd: [f64; 3], e1: f64, e2: f64) -> f64 {
+    let target = e1 / e2;
+    if !(target.is_finite() && target > 0.0) {
+        return f64::NAN;
+    }
+    let h = ppd.map(|n| 1.0 / n);
+    let ratio = |p: f64| {
+        if p.abs() < 1e-12 {
+            (h[0] / h[1]).ln() / (h[1] / h[2]).ln()
+        } else {
+            (h[0].powf(p) - h[1].powf(p)) / (h[1].powf(p) - h[2].powf(p))
+        }
+    };
+    let (mut lo, mut hi) = (-4.0_f64, 8.0_f64);
+    if target <= ratio(lo) {
+        return lo;
+    }
+    if target >= ratio(hi) {
+        return hi;
+    }
+    for _ in 0..100 {
+        let mid = 0.5 * (lo + hi);
+        if ratio(mid) < target {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
 pub fn observed_order(
     coarse: &[(f64, Outputs)],
     mid: &[(f64, Outputs)],
@@ -1007,52 +1082,66 @@ pub fn rheology_cases() -> Vec<(RheologyKind, SceneConfig)> {
         .collect()
 }
 
+/// Fang's drop (De = 1, beta = 0.1) with every rheology under every scheme the solver builds
+/// (issue 11: ISPH in the rheology benchmark like the other schemes): one table with a scheme
+/// column, one CSV, and one W*(t*)/H*(t*) figure per scheme (`rheologies_<scheme>.png`, like
+/// King & Lind 2021 Fig. 16).
 fn bench_rheologies(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::Error>> {
     let ppd = if quick { 12 } else { 30 };
-    let mut runs = Vec::new();
-    let mut md = String::from("| rheology | first peak W* | t* of peak | W* at t* = 8 | H* at t* = 8 | max tr(A) | wall time [s] | breakdown |\n|---|---|---|---|---|---|---|---|\n");
-    let mut csv = String::from("rheology,time,t_star,w_star,h_star\n");
-    for (r, mut c) in rheology_cases() {
-        c.particles_per_diameter = ppd;
-        let opts = RunOptions::for_scene(&c);
-        eprintln!("bench rheologies: {r} ...");
-        let res = run(&c, &opts)?;
-        let ts = time_scale(&c);
-        let d = c.drop_diameter;
-        let w: Vec<(f64, f64)> = res
-            .series
-            .iter()
-            .map(|(t, o)| (t / ts, o.drop_width / d))
-            .collect();
-        let (peak_w, peak_t) = match first_peak(&w) {
-            Some((t, w)) => (format!("{w:.3}"), format!("{t:.2}")),
-            None => ("none (keeps spreading)".to_string(), "-".to_string()),
-        };
-        let last = res.series.last().expect("series").1;
-        writeln!(
-            md,
-            "| {r} | {peak_w} | {peak_t} | {:.3} | {:.3} | {} | {:.2} | {} |",
-            last.drop_width / d,
-            last.drop_height / d,
-            res.max_trace_text(),
-            res.wall_seconds,
-            res.error_text()
-        )?;
-        for (t, o) in &res.series {
+    let mut md = String::from("| scheme | rheology | first peak W* | t* of peak | W* at t* = 8 | H* at t* = 8 | max tr(A) | wall time [s] | breakdown |\n|---|---|---|---|---|---|---|---|---|\n");
+    let mut csv = String::from("scheme,rheology,time,t_star,w_star,h_star\n");
+    for scheme in built_schemes() {
+        let mut runs = Vec::new();
+        for (r, mut c) in rheology_cases() {
+            c.particles_per_diameter = ppd;
+            c.scheme = scheme;
+            let opts = RunOptions::for_scene(&c);
+            eprintln!("bench rheologies: {scheme} {r} ...");
+            let res = run(&c, &opts)?;
+            let ts = time_scale(&c);
+            let d = c.drop_diameter;
+            let w: Vec<(f64, f64)> = res
+                .series
+                .iter()
+                .map(|(t, o)| (t / ts, o.drop_width / d))
+                .collect();
+            let (peak_w, peak_t) = match first_peak(&w) {
+                Some((t, w)) => (format!("{w:.3}"), format!("{t:.2}")),
+                None => ("none (keeps spreading)".to_string(), "-".to_string()),
+            };
+            let last = res.series.last().expect("series").1;
             writeln!(
-                csv,
-                "{r},{t:.6e},{:.4},{:.5},{:.5}",
-                t / ts,
-                o.drop_width / d,
-                o.drop_height / d
+                md,
+                "| {scheme} | {r} | {peak_w} | {peak_t} | {:.3} | {:.3} | {} | {:.2} | {} |",
+                last.drop_width / d,
+                last.drop_height / d,
+                res.max_trace_text(),
+                res.wall_seconds,
+                res.error_text()
             )?;
+            for (t, o) in &res.series {
+                writeln!(
+                    csv,
+                    "{scheme},{r},{t:.6e},{:.4},{:.5},{:.5}",
+                    t / ts,
+                    o.drop_width / d,
+                    o.drop_height / d
+                )?;
+            }
+            let label = match res.error {
+                Some(_) => format!("{r} (broke down)"),
+                None => r.to_string(),
+            };
+            runs.push((label, res.series));
         }
-        runs.push((r.to_string(), res.series));
+        let cfg = SceneConfig {
+            scheme,
+            ..Default::default()
+        };
+        let refs: Vec<(String, &[(f64, Outputs)])> =
+            runs.iter().map(|(n, s)| (n.clone(), &s[..])).collect();
+        crate::run::plot_width_height(&out.join(format!("rheologies_{scheme}.png")), &cfg, &refs)?;
     }
-    let cfg = SceneConfig::default();
-    let refs: Vec<(String, &[(f64, Outputs)])> =
-        runs.iter().map(|(n, s)| (n.clone(), &s[..])).collect();
-    crate::run::plot_width_height(&out.join("rheologies.png"), &cfg, &refs)?;
     std::fs::write(out.join("rheologies.csv"), &csv)?;
     std::fs::write(out.join("rheologies.md"), &md)?;
     Ok(md)
@@ -1156,7 +1245,11 @@ const REPORT_SECTIONS: &[(&str, &str, &str, &[&str])] = &[
         "Every rheology on Fang's drop",
         "viscosph bench rheologies",
         "rheologies.md",
-        &["rheologies.png"],
+        &[
+            "rheologies_wcsph.png",
+            "rheologies_pdri.png",
+            "rheologies_isph.png",
+        ],
     ),
     (
         "Channel: start-up Poiseuille flow (King & Lind section IV.A)",
@@ -1560,6 +1653,23 @@ fn bench_stability(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_order_from_three_resolutions_recovers_the_power_law() {
+        // Doubling resolutions: log2 of the ratio of differences.
+        assert!((order_from_differences([20.0, 40.0, 80.0], 0.04, 0.01) - 2.0).abs() < 1e-9);
+        // W/dr = 40, 80, 120 with an error 3 h^1.5 (h = 1/ppd): the differences alone give 1.5.
+        let err = |n: f64| 3.0 * (1.0 / n).powf(1.5);
+        let p = order_from_differences(
+            [40.0, 80.0, 120.0],
+            err(40.0) - err(80.0),
+            err(80.0) - err(120.0),
+        );
+        assert!((p - 1.5).abs() < 1e-9, "{p}");
+        // Differences that grow with resolution: a negative order; none at all: NaN.
+        assert!(order_from_differences([20.0, 40.0, 80.0], 0.01, 0.02) < 0.0);
+        assert!(order_from_differences([20.0, 40.0, 80.0], 0.01, 0.0).is_nan());
+    }
 
     #[test]
     fn a_curve_that_keeps_rising_has_no_first_peak() {

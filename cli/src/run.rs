@@ -653,7 +653,7 @@ pub fn plot_width_height_marked(
         (
             format!("t* = t V / D [-]   (D/V = {})", time_text(ts)),
             format!("width W* = W / D (D = {} mm)", 1e3 * d),
-            "height H* = H / D".to_string(),
+            format!("height H* = H / D ({} scheme)", cfg.scheme),
             "W* [-]".to_string(),
             "H* [-]".to_string(),
         )

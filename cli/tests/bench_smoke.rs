@@ -69,10 +69,13 @@ fn drop_throughput_rheologies_and_report() {
     png(&out.join("throughput.png"));
 
     let md = bench(&["rheologies"], out);
-    for r in viscosph::config::RHEOLOGIES {
-        assert!(md.contains(&format!("| {} |", r.0)), "{} missing", r.0);
+    for s in ["wcsph", "pdri", "isph"] {
+        for r in viscosph::config::RHEOLOGIES {
+            let row = format!("| {s} | {} |", r.0);
+            assert!(md.contains(&row), "{row} missing");
+        }
+        png(&out.join(format!("rheologies_{s}.png")));
     }
-    png(&out.join("rheologies.png"));
 
     let docs = out.join("docs");
     let o = Command::new(env!("CARGO_BIN_EXE_viscosph"))
@@ -97,8 +100,8 @@ fn drop_throughput_rheologies_and_report() {
         report.contains(&format!("Measured on commit {}.", head.trim())),
         "the sections name the commit they were measured on"
     );
-    assert!(report.contains("| newtonian |") && report.contains("cost ratio"));
-    assert!(docs.join("bench/rheologies.png").exists());
+    assert!(report.contains("| isph | newtonian |") && report.contains("cost ratio"));
+    assert!(docs.join("bench/rheologies_isph.png").exists());
 }
 
 #[test]
@@ -147,4 +150,48 @@ fn accuracy_and_stability() {
     assert!(rows.iter().any(|r| r[5] == "stable"));
     png(&out.join("stability_de_wcsph.png"));
     png(&out.join("stability_beta.png"));
+}
+
+/// `bench isph --quick`: the explicit step's row has no viscous solve ("-"), the convergence
+/// sentences stand below one unbroken table, the implicit and explicit drops spread alike at
+/// this coarse resolution, and every pair of the cross-scheme table is there.
+#[test]
+fn isph_table_convergence_and_cross_scheme() {
+    let dir = tempfile::tempdir().unwrap();
+    let md = bench(&["isph"], dir.path());
+    let explicit = md
+        .lines()
+        .find(|l| l.starts_with("| explicit |"))
+        .expect("explicit row");
+    let cells: Vec<&str> = explicit.split('|').map(str::trim).collect();
+    assert_eq!((cells[7], cells[9]), ("-", "-"), "{explicit}");
+    let table: Vec<&str> = md
+        .lines()
+        .skip_while(|l| !l.starts_with("| viscous step"))
+        .take_while(|l| l.starts_with('|'))
+        .collect();
+    assert_eq!(table.len(), 2 + 2 + 3 + 3, "one table: {md}");
+    assert_eq!(md.matches("observed order").count(), 2, "{md}");
+    let w_end = |l: &str| -> f64 {
+        l.split('|')
+            .map(str::trim)
+            .nth(10)
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    let implicit = table
+        .iter()
+        .find(|l| l.starts_with("| implicit | 16 |"))
+        .unwrap();
+    assert!((w_end(implicit) - w_end(explicit)).abs() < 0.2, "{md}");
+    for s in [
+        "isph",
+        "wcsph",
+        "pdri",
+        "wcsph, alpha = 0",
+        "pdri, alpha = 0",
+    ] {
+        assert!(md.contains(&format!("| {s} |")), "{s} missing: {md}");
+    }
 }
