@@ -153,27 +153,6 @@
 //!   W/dr = 40, alpha = 0.2); applied only where compressed, it did nothing measurable. What
 //!   remains is tangential crowding of the free-surface row (Dirichlet rows, which no source
 //!   reaches): docs/isph.md, "Volume".
-//! * **Volume at W/dr = 40** (docs/isph.md, "Volume": largest |volume_error| of the Newtonian
-//!   Re = 4 drop over t* <= 8 from 0.69 % to 0.34 %), three parts, each measured on where the
-//!   covered area went:
-//!   - *Near-surface source.* The source above also acts on the near-surface (NS) particles, with
-//!     alpha = 0.1 and, as reference, `C0` times the share a particle keeps at its distance
-//!     below a straight surface row ([`surface::HalfLattice`], the distance from
-//!     [`surface::row_distance`]): the bulk had stayed 0.6-1 % expanded after impact (C / C0 =
-//!     0.992 more than 4.5 dx inside at t* = 1) while the NS band, about four rows, had no
-//!     feedback at all.
-//!   - *Contact-line pile-up.* The rim's rolling motion brings surface particles down its face
-//!     and the no-slip wall holds the contact line: free-surface particles piled up on the face
-//!     0.48 dx apart (each covering about 0.7 dx^2, -3.3 dx^2 per rim at t* = 8), since a
-//!     Dirichlet row has no density feedback and a uniformly crowded row no tangential
-//!     concentration gradient. A surface particle within [`CONTACT_REACH`] dx of a plate whose
-//!     row is denser than [`CROWDED_ROW`] ([`surface::row_density`]) leaves the free-surface
-//!     set (PPE row, full shift, NS source). Sliding the pile-up along the plate by shifting
-//!     instead removed the loss too but advanced the contact line (W*(8) +9 %).
-//!   - *Frame-independent shifting.* King & Lind's coefficient (41) follows the particle's
-//!     speed; it now follows the speed relative to the fluid's mean velocity, so a drop in
-//!     free flight at 1 m/s is not reshuffled (with the NS source it contracted by 0.8 % before
-//!     impact).
 //! * **The closed periodic channel** (no free surface; issue 12) differs in three places, each
 //!   measured on King & Lind's unit channel at 30 across: the body force is in the predictor
 //!   (with the corrector's g the implicit viscous step acts on u - g dt, and the Newtonian flow
@@ -250,20 +229,6 @@ const DT_COEF_PER_FACTOR: f64 = 2.0 / 3.0;
 const PENETRATION_DEPTH: f64 = 0.5;
 /// Relaxation coefficient of the density-invariant PPE source (module documentation).
 const DENSITY_INVARIANCE: f64 = 0.05;
-/// Relaxation coefficient of the same source on the near-surface particles, against the
-/// concentration a particle at their distance below a straight surface row keeps
-/// ([`surface::HalfLattice`]; module documentation, "Volume"), per step of the default
-/// advective step (`time_step_factor` [`DEFAULT_STEP_FACTOR`]); a shorter step takes
-/// proportionally less, so the relaxation rate does not depend on the step.
-const NEAR_SURFACE_INVARIANCE: f64 = 0.1;
-/// The default `time_step_factor`: the step [`NEAR_SURFACE_INVARIANCE`] is given for.
-const DEFAULT_STEP_FACTOR: f64 = 0.3;
-/// A free-surface particle within [`CONTACT_REACH`] spacings of a plate whose surface row is
-/// this much denser than a straight row of spacing dx ([`surface::row_density`]) is taken out
-/// of the free-surface set (module documentation, "Volume").
-const CROWDED_ROW: f64 = 1.5;
-/// Reach of [`CROWDED_ROW`] from a plate, in particle spacings.
-const CONTACT_REACH: f64 = 4.0;
 /// Smallest share of eta0 the compact (Morris) viscous operator carries under ISPH: when the
 /// solvent's beta eta0 plus `evss_alpha`'s alpha_V eta0 is less, alpha_V is raised to make up
 /// the difference (module documentation, "Low solvent viscosity"). EVSS is an identity of the
@@ -338,8 +303,6 @@ pub struct Isph<R: Rheology> {
     all_x: Vec<Vec2>,
     /// Kernel sum `sum_j V W_ij` of a particle inside an unbounded square lattice.
     c_lattice: f64,
-    /// Its share below a straight surface row (near-surface density-invariant source).
-    half_lattice: surface::HalfLattice,
     pub timings: IsphTimings,
 }
 
@@ -363,7 +326,6 @@ impl<R: Rheology> Isph<R> {
         };
         let reach = kernel.radius();
         let c_lattice = lattice_concentration(&kernel, p.dx);
-        let half_lattice = surface::HalfLattice::new(&kernel, p.dx);
         Self {
             kernel,
             model,
@@ -386,7 +348,6 @@ impl<R: Rheology> Isph<R> {
             walls: plates.iter().map(|_| MirrorWall::new(reach)).collect(),
             all_x: Vec::new(),
             c_lattice,
-            half_lattice,
             timings: IsphTimings::default(),
             p,
         }
@@ -505,16 +466,6 @@ fn extend_over_mirrors(u: &[Vec2], parent: &[u32], u_wall: &[Vec2], curv: &[Vec2
             .map(|((&i, uw), c)| 2.0 * uw - u[i as usize] + c),
     );
     out
-}
-
-/// Velocities relative to their mean (summed in index order): the speed King & Lind's shifting
-/// coefficient (41) follows, made independent of the frame (module documentation, "Volume").
-fn relative_to_mean(u: &[Vec2]) -> Vec<Vec2> {
-    if u.is_empty() {
-        return Vec::new();
-    }
-    let mean = u.iter().fold(Vec2::zeros(), |a, v| a + v) / u.len() as f64;
-    u.iter().map(|v| v - mean).collect()
 }
 
 /// The concentration `sum_j V_j W_ij` of a particle inside an unbounded square lattice of
@@ -744,23 +695,7 @@ impl<R: Rheology> Scheme for Isph<R> {
             self.free_surface,
             lagrangian.then_some(dx),
         );
-        let (pairs, mut l, mut surf) = (sums.pairs, sums.l, sums.surface);
-        // A surface row crowded next to a plate (the contact line's pile-up) leaves the free
-        // surface: its particles take PPE rows and the full shift (module documentation).
-        if let Some(sf) = surf.as_mut() {
-            if !st.walls.is_empty() {
-                let density = surface::row_density(all_x, &nl, &dom, &sf.is_surface, h, dx);
-                for i in 0..n {
-                    if sf.is_surface[i]
-                        && density[i] > CROWDED_ROW
-                        && st.walls.iter().any(|w| w.d(&xs[i]) < CONTACT_REACH * dx)
-                    {
-                        sf.is_surface[i] = false;
-                        sf.near_surface[i] = true;
-                    }
-                }
-            }
-        }
+        let (pairs, mut l, surf) = (sums.pairs, sums.l, sums.surface);
         // Free-surface particles take the uncorrected gradient (module documentation).
         if let Some(s) = &surf {
             for (li, &fs) in l.iter_mut().zip(&s.is_surface) {
@@ -806,7 +741,7 @@ impl<R: Rheology> Scheme for Isph<R> {
                             },
                         )
                         .collect(),
-                    shifting::coefficients_free_surface(&relative_to_mean(&fl.v), h, dt),
+                    shifting::coefficients_free_surface(&fl.v, h, dt),
                 ),
                 None => (sums.grad_c, vec![shifting::coefficient_internal(h); n]),
             };
@@ -1223,32 +1158,12 @@ impl<R: Rheology> Scheme for Isph<R> {
         // surface nor next to it), a concentration above the lattice's pushes apart, one below
         // pulls together; near the surface the truncated sum would read a spurious expansion.
         // Not on the inlet's held particles (their velocity is prescribed).
-        // Near the surface the reference is the concentration a particle keeps at its distance
-        // below a straight surface row, not C0 (module documentation, "Volume").
         if let Some(s) = &surf {
-            let c0 = self.c_lattice;
-            // The default advective step of (28): the near-surface coefficient is per such step.
-            let g_norm = g.norm();
-            let mut lim = if umax > 0.0 { h / umax } else { f64::INFINITY };
-            if g_norm > 0.0 {
-                lim = lim.min((h / g_norm).sqrt());
-            }
-            let ratio = dt / (DT_COEF_PER_FACTOR * DEFAULT_STEP_FACTOR * lim);
-            let alpha_ns = NEAR_SURFACE_INVARIANCE * if ratio < 1.0 - 1e-9 { ratio } else { 1.0 };
+            let (alpha, c0) = (DENSITY_INVARIANCE, self.c_lattice);
             for (i, bi) in b.iter_mut().enumerate() {
-                if s.is_surface[i] || is_held(i) {
-                    continue;
+                if !(s.is_surface[i] || s.near_surface[i] || is_held(i)) {
+                    *bi += alpha * rho / (dt * dt) * (c0 - s.concentration[i]) / c0;
                 }
-                let (alpha, c_ref) = if !s.near_surface[i] {
-                    (DENSITY_INVARIANCE, c0)
-                } else if let Some(a) =
-                    surface::row_distance(i, all_x, &nl, &dom, s, &self.kernel)
-                {
-                    (alpha_ns, c0 * self.half_lattice.share(a))
-                } else {
-                    continue;
-                };
-                *bi += alpha * rho / (dt * dt) * (c_ref - s.concentration[i]) / c_ref;
             }
         }
         // Inlet particles within reach of free fluid: Neumann (module documentation).
