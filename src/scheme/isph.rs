@@ -99,7 +99,13 @@
 //!   `c^2 = (G + s_max) / rho`, s_max the largest principal polymer stress (a string under
 //!   tension G A carries transverse waves at sqrt(G l_max(A) / rho)); (28) and `h / sqrt(G / rho)`
 //!   do not see the stretch, and as a start-up flow slows (28)'s step grows while tr A still
-//!   rises. [`STRETCHED_WAVE_LIMIT`] gives the measurements.
+//!   rises. [`STRETCHED_WAVE_LIMIT`] gives the measurements. In free-surface scenes also the
+//!   positive-form pressure wave `0.5 h sqrt(rho / p_max)` (not scaled by the factor): the
+//!   projection's `(p_i + p_j)` gradient is an explicit interparticle spring of stiffness
+//!   proportional to p, and at the gravity limit of a drop resting on the plate its Courant
+//!   number grows as sqrt(H / h) (the Newtonian Re = 4 drop blew up at W/dr = 120, t* = 1.5,
+//!   without it). [`Isph::pressure_wave_dt`] derives it; [`PRESSURE_WAVE_LIMIT`] gives the
+//!   measurements.
 //! * Kernel: the quintic spline, h = 1.3 dx (`smoothing_ratio` is ignored). No equation of state,
 //!   sound speed, artificial viscosity or artificial stress: those parameters are ignored.
 //!   `rho` of the particles stays rho0.
@@ -245,6 +251,21 @@ pub const MIN_COMPACT_VISCOSITY_RATIO: f64 = 0.05;
 /// grown to 2.4 (tr A = 1.1e5); beta = 0 at Wi = 16 broke at t = 4.0 once it passed 1 (3 at
 /// the end), as the flow slowed and (28)'s step grew while tr A still rose.
 const STRETCHED_WAVE_LIMIT: f64 = 5.0;
+/// The positive-form pressure wave limit of free-surface scenes ([`Isph::pressure_wave_dt`]):
+/// `dt <= PRESSURE_WAVE_LIMIT h sqrt(rho / p_max)`, a stability limit, so not scaled by
+/// `time_step_factor` (scaled as 1.25 times the coefficient, test
+/// `implicit_viscosity_converges_to_explicit` blew up at factor 0.03, presumably because the
+/// pressure of the density-invariant source grows as 1 / dt^2 and fed back into the step; not
+/// investigated further). Measured on a Newtonian drop
+/// (eta = 5 Pa s, D = 2 cm) settling on the plate from rest, plate force (weight 3.08 N/m):
+/// at W/dr = 40 (t = 0.1-0.4 s, time_step_factor 1.0) its standard deviation was 1.52 N/m
+/// without the limit (0.62 at the default 0.3), 0.89 with 1 h / c_p, 0.04 with 0.5, 0.03 with
+/// 0.25 and 0.12; at W/dr = 80 (t = 0.02-0.12 s) 0.22 with 0.5 (a noisy layer next to the
+/// plate, particles at 0.08 m/s) and 0.03 with 0.25 (clean). 0.25 costs volume at W/dr = 40
+/// (largest |volume_error| 0.88 % against 0.63 %: the per-step density-invariant source acts
+/// harder at smaller steps), so 0.5 is kept: stable, the near-wall layer's noise left open
+/// (docs/isph.md, "The positive-form pressure wave").
+const PRESSURE_WAVE_LIMIT: f64 = 0.5;
 /// Smallest number of particles per parallel task.
 const MIN_TASK: usize = 64;
 /// A stable step (28) this far below the scene's time scale ([`Isph::time_scale`]) means the
@@ -407,6 +428,37 @@ impl<R: Rheology> Isph<R> {
             }
         }
         self.dt_coef * lim
+    }
+
+    /// The positive-form pressure wave limit of a free-surface scene:
+    /// `dt <= PRESSURE_WAVE_LIMIT h / c_p`, `c_p = sqrt(p_max / rho)`, p_max the
+    /// largest pressure of the last step. The projection's pressure gradient is the positive
+    /// form `-sum_j (p_i + p_j) grad W_ij V_j / rho` (momentum-conserving pairs), which is not
+    /// zero-order consistent: under a uniform pressure p a particle displaced from its lattice
+    /// site feels `-2 p s_i / rho`, `s_i = sum_j V_j grad_i W_ij`, a restoring spring of
+    /// angular frequency `omega^2 = 2 p V |W''(0)| / rho` (about `0.66 p / (rho h^2)` for the
+    /// quintic at h = 1.3 dx). The PPE does not see it, and it is explicit: with the velocity
+    /// damped within the step (implicit viscosity, an overdamped particle) and the advection
+    /// (27) averaging u^n and u^{n+1}, a displacement obeys
+    /// `d_{n+1} = (1 - b) d_n - b d_{n-1}`, `b = (omega dt)^2 / 2`, unstable for
+    /// `omega dt > sqrt(2)` (about `1.7 h / c_p`; the modes of neighbouring particles moving
+    /// against each other are stiffer). This is the sound-speed condition of weakly
+    /// compressible SPH (Monaghan 1992) with the pressure's own wave speed in place of c.
+    /// (28)'s `h / |u|` and `sqrt(h / g)` do not see it: under the hydrostatic pressure of a
+    /// drop of height H, `c_p dt / h = dt_coef sqrt(H / h)` at the gravity limit, which grows
+    /// with the resolution (docs/isph.md, "The positive-form pressure wave").
+    /// Infinite in closed flows (the pressure is defined up to a constant there) and before
+    /// the first pressure solve.
+    fn pressure_wave_dt(&self, pressure: &[f64]) -> f64 {
+        if !self.free_surface {
+            return f64::INFINITY;
+        }
+        let p_max = pressure.iter().fold(0.0f64, |m, &p| m.max(p));
+        if p_max > 0.0 && p_max.is_finite() {
+            PRESSURE_WAVE_LIMIT * self.kernel.h() * (self.rho / p_max).sqrt()
+        } else {
+            f64::INFINITY
+        }
     }
 
     /// The closed channel's limit for a stretched polymer:
@@ -626,7 +678,10 @@ impl<R: Rheology> Scheme for Isph<R> {
         let g = self.p.gravity;
         let fl = &st.fluid;
         let umax = fl.v.iter().fold(0.0f64, |m, v| m.max(v.norm()));
-        let dt_stable = self.stable_dt(umax).min(self.stretched_wave_dt(&fl.conf));
+        let dt_stable = self
+            .stable_dt(umax)
+            .min(self.stretched_wave_dt(&fl.conf))
+            .min(self.pressure_wave_dt(&st.pressure));
         let dt = dt_stable.min(max_dt);
         if dt.is_nan() || dt <= 0.0 {
             return Err(format!("time step collapsed to {dt:e} s"));
