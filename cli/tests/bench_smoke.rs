@@ -150,6 +150,23 @@ fn accuracy_and_stability() {
     assert!(rows.iter().any(|r| r[5] == "stable"));
     png(&out.join("stability_de_wcsph.png"));
     png(&out.join("stability_beta.png"));
+    // Every one-parameter sweep says, per scheme, where it broke or that nothing did.
+    for scheme in ["wcsph", "pdri", "isph"] {
+        assert!(
+            md.contains(&format!("- {scheme}: stable at")),
+            "{scheme} has no sweep summary:\n{md}"
+        );
+    }
+    assert!(md.contains("first breakdown at") || md.contains("no breakdown: every value tried"));
+    // A misspelt sweep is an error, not a silently empty table.
+    let o = Command::new(env!("CARGO_BIN_EXE_viscosph"))
+        .args(["bench", "--quick", "--out"])
+        .arg(out)
+        .args(["stability", "--part", "sweeps", "--sweeps", "velocty"])
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("unknown sweep 'velocty'"));
 }
 
 /// `bench isph --quick`: the explicit step's row has no viscous solve ("-"), the convergence
