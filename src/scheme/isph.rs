@@ -324,8 +324,6 @@ pub struct Isph<R: Rheology> {
     all_x: Vec<Vec2>,
     /// Kernel sum `sum_j V W_ij` of a particle inside an unbounded square lattice.
     c_lattice: f64,
-    /// Its share below a straight surface row (near-surface density-invariant source).
-    half_lattice: surface::HalfLattice,
     pub timings: IsphTimings,
 }
 
@@ -349,7 +347,6 @@ impl<R: Rheology> Isph<R> {
         };
         let reach = kernel.radius();
         let c_lattice = lattice_concentration(&kernel, p.dx);
-        let half_lattice = surface::HalfLattice::new(&kernel, p.dx);
         Self {
             kernel,
             model,
@@ -372,7 +369,6 @@ impl<R: Rheology> Isph<R> {
             walls: plates.iter().map(|_| MirrorWall::new(reach)).collect(),
             all_x: Vec::new(),
             c_lattice,
-            half_lattice,
             timings: IsphTimings::default(),
             p,
         }
@@ -522,23 +518,6 @@ fn extend_over_mirrors(u: &[Vec2], parent: &[u32], u_wall: &[Vec2], curv: &[Vec2
             .map(|((&i, uw), c)| 2.0 * uw - u[i as usize] + c),
     );
     out
-}
-
-/// EXPERIMENT switch.
-fn envf(name: &str, default: f64) -> f64 {
-    std::env::var(name)
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(default)
-}
-
-/// Velocities relative to their mean (summed in index order).
-fn relative_to_mean(u: &[Vec2]) -> Vec<Vec2> {
-    if u.is_empty() {
-        return Vec::new();
-    }
-    let mean = u.iter().fold(Vec2::zeros(), |a, v| a + v) / u.len() as f64;
-    u.iter().map(|v| v - mean).collect()
 }
 
 /// The concentration `sum_j V_j W_ij` of a particle inside an unbounded square lattice of
@@ -771,22 +750,7 @@ impl<R: Rheology> Scheme for Isph<R> {
             self.free_surface,
             lagrangian.then_some(dx),
         );
-        let (pairs, mut l, mut surf) = (sums.pairs, sums.l, sums.surface);
-        let exp_rc = envf("VS_RC", 0.0);
-        if let Some(sf) = surf.as_mut() {
-            if exp_rc > 0.0 && !st.walls.is_empty() {
-                let density = surface::row_density(all_x, &nl, &dom, &sf.is_surface, h, dx);
-                for i in 0..n {
-                    if sf.is_surface[i]
-                        && density[i] > exp_rc
-                        && st.walls.iter().any(|w| w.d(&xs[i]) < 4.0 * dx)
-                    {
-                        sf.is_surface[i] = false;
-                        sf.near_surface[i] = true;
-                    }
-                }
-            }
-        }
+        let (pairs, mut l, surf) = (sums.pairs, sums.l, sums.surface);
         // Free-surface particles take the uncorrected gradient (module documentation).
         if let Some(s) = &surf {
             for (li, &fs) in l.iter_mut().zip(&s.is_surface) {
@@ -832,11 +796,7 @@ impl<R: Rheology> Scheme for Isph<R> {
                             },
                         )
                         .collect(),
-                    if envf("VS_GAL", 0.0) > 0.0 {
-                        shifting::coefficients_free_surface(&relative_to_mean(&fl.v), h, dt)
-                    } else {
-                        shifting::coefficients_free_surface(&fl.v, h, dt)
-                    },
+                    shifting::coefficients_free_surface(&fl.v, h, dt),
                 ),
                 None => (sums.grad_c, vec![shifting::coefficient_internal(h); n]),
             };
@@ -1253,66 +1213,12 @@ impl<R: Rheology> Scheme for Isph<R> {
         // surface nor next to it), a concentration above the lattice's pushes apart, one below
         // pulls together; near the surface the truncated sum would read a spurious expansion.
         // Not on the inlet's held particles (their velocity is prescribed).
-        let exp_robin = envf("VS_ROBIN", 0.0) > 0.0;
-        let exp_fsdi = envf("VS_FSDI", 0.0);
-        let exp_fsdi_one = envf("VS_FSDI_ONE", 0.0) > 0.0;
-        let exp_fsdi_wall = envf("VS_FSDI_WALL", 0.0);
-        let exp_fsdi_dist = envf("VS_FSDI_DIST", 0.0) > 0.0;
         if let Some(s) = &surf {
-            let c0 = self.c_lattice;
-            let g_norm = g.norm();
-            let mut lim = if umax > 0.0 { h / umax } else { f64::INFINITY };
-            if g_norm > 0.0 {
-                lim = lim.min((h / g_norm).sqrt());
-            }
-            let ratio = dt / (DT_COEF_PER_FACTOR * 0.3 * lim);
-            let per_step = envf("VS_NS_PERSTEP", 0.0) > 0.0;
-            let alpha_ns = envf("VS_NS", 0.0)
-                * if ratio < 1.0 - 1e-9 && !per_step {
-                    ratio
-                } else {
-                    1.0
-                };
-            let alpha_fs = exp_fsdi
-                * if ratio < 1.0 - 1e-9 && !per_step {
-                    ratio
-                } else {
-                    1.0
-                };
+            let (alpha, c0) = (DENSITY_INVARIANCE, self.c_lattice);
             for (i, bi) in b.iter_mut().enumerate() {
-                if is_held(i) {
-                    continue;
+                if !(s.is_surface[i] || s.near_surface[i] || is_held(i)) {
+                    *bi += alpha * rho / (dt * dt) * (c0 - s.concentration[i]) / c0;
                 }
-                if s.is_surface[i] {
-                    let near_wall = exp_fsdi_wall <= 0.0
-                        || st.walls.iter().any(|w| w.d(&xs[i]) < exp_fsdi_wall * dx);
-                    if exp_robin && alpha_fs > 0.0 && near_wall {
-                        let a = if exp_fsdi_dist {
-                            surface::row_distance(i, all_x, &nl, &dom, s, &self.kernel)
-                                .unwrap_or(0.0)
-                        } else {
-                            0.0
-                        };
-                        let c_ref = c0 * self.half_lattice.share(a);
-                        let mut e = (c_ref - s.concentration[i]) / c_ref;
-                        if exp_fsdi_one {
-                            e = e.min(0.0);
-                        }
-                        *bi += alpha_fs * rho / (dt * dt) * e;
-                    }
-                    continue;
-                }
-                let (alpha, c_ref) = if !s.near_surface[i] {
-                    (DENSITY_INVARIANCE, c0)
-                } else if alpha_ns <= 0.0 {
-                    continue;
-                } else if let Some(a) = surface::row_distance(i, all_x, &nl, &dom, s, &self.kernel)
-                {
-                    (alpha_ns, c0 * self.half_lattice.share(a))
-                } else {
-                    continue;
-                };
-                *bi += alpha * rho / (dt * dt) * (c_ref - s.concentration[i]) / c_ref;
             }
         }
         // Inlet particles within reach of free fluid: Neumann (module documentation).
@@ -1366,38 +1272,7 @@ impl<R: Rheology> Scheme for Isph<R> {
             sign: &[],
             offset: &offsets,
         };
-        let mut dirichlet = dirichlet;
-        let robin: Vec<(f64, f64)> = match (&surf, exp_robin) {
-            (Some(s), true) => {
-                let depth = surface::row_density(all_x, &nl, &dom, &s.is_surface, h, dx);
-                (0..n)
-                    .map(|i| {
-                        if dirichlet[i].is_none() {
-                            return (0.0, 0.0);
-                        }
-                        let off = nl.offset(i);
-                        let mut m1 = Vec2::zeros();
-                        for (kk, &j) in nl.of(i).iter().enumerate() {
-                            let j = j as usize;
-                            if j != i {
-                                m1 -= dom.delta(&all_x[j], &xs[i]) * pairs.morris[off + kk];
-                            }
-                        }
-                        let d = 0.5 * dx * depth[i];
-                        let c = (-s.normal[i].dot(&m1)).max(0.0) / d;
-                        if c > 0.0 && d > 0.0 {
-                            dirichlet[i] = None;
-                            (c, 0.0)
-                        } else {
-                            (0.0, 0.0)
-                        }
-                    })
-                    .collect()
-            }
-            _ => Vec::new(),
-        };
-        let sys =
-            ppe::assemble_poisson_surface(n, &nl, &pairs.morris, &ghosts, &dirichlet, &robin, &b);
+        let sys = ppe::assemble_poisson(n, &nl, &pairs.morris, &ghosts, &dirichlet, &b);
         let mut pres = if st.pressure.len() == n {
             st.pressure.clone()
         } else if st.inflow.is_some() && st.pressure.len() < n {
@@ -1424,10 +1299,6 @@ impl<R: Rheology> Scheme for Isph<R> {
                     .map(|(&i, o)| pres[i as usize] + o),
             )
             .collect();
-        let exp_diff_fs: Vec<bool> = match &surf {
-            Some(s) if envf("VS_DIFFFS", 0.0) > 0.0 => s.is_surface.clone(),
-            _ => vec![false; n],
-        };
         let proj: Vec<(Vec2, Vec2)> = (0..n)
             .into_par_iter()
             .with_min_len(MIN_TASK)
@@ -1436,8 +1307,7 @@ impl<R: Rheology> Scheme for Isph<R> {
                 let (mut f, mut fw) = (Vec2::zeros(), Vec2::zeros());
                 for (kk, &j) in nl.of(i).iter().enumerate() {
                     let j = j as usize;
-                    let pi = if exp_diff_fs[i] { -p_all[i] } else { p_all[i] };
-                    let a = pairs.grad[off + kk] * ((pi + p_all[j]) * (-vol / rho));
+                    let a = pairs.grad[off + kk] * ((p_all[i] + p_all[j]) * (-vol / rho));
                     if j < n {
                         f += a;
                     } else {
