@@ -246,9 +246,34 @@ pub fn assemble_poisson(
     dirichlet: &[Option<f64>],
     b: &[f64],
 ) -> LinearSystem {
+    assemble_poisson_surface(n_fluid, nl, coef, ghosts, dirichlet, &[], b)
+}
+
+/// [`assemble_poisson`] with surface rows that keep their continuity equation:
+/// `surface[i] = (c_i, p_s)` adds `c_i (p_i - p_s)` to row i of `-lap p = -b`. Empty: none.
+pub fn assemble_poisson_surface(
+    n_fluid: usize,
+    nl: &NeighborList,
+    coef: &[f64],
+    ghosts: &GhostLink,
+    dirichlet: &[Option<f64>],
+    surface: &[(f64, f64)],
+    b: &[f64],
+) -> LinearSystem {
+    assert!(surface.is_empty() || surface.len() == n_fluid);
     let neg_b: Vec<f64> = b.iter().map(|v| -v).collect();
     let (mut rows, mut rhs) = assemble(n_fluid, nl, coef, 0.0, -1.0, ghosts, dirichlet, &neg_b);
-    let closed = n_fluid > 0 && dirichlet.iter().all(|d| d.is_none());
+    let mut coupled = false;
+    for (i, &(c, ps)) in surface.iter().enumerate() {
+        if c > 0.0 && dirichlet.get(i).copied().flatten().is_none() {
+            if let Some(d) = rows[i].iter_mut().rev().find(|e| e.0 as usize == i) {
+                d.1 += c;
+                rhs[i] += c * ps;
+                coupled = true;
+            }
+        }
+    }
+    let closed = n_fluid > 0 && !coupled && dirichlet.iter().all(|d| d.is_none());
     let mut anchor = None;
     if closed {
         // Compatibility: the constant vector spans the null space of the (symmetric) matrix, so
