@@ -425,8 +425,11 @@ impl<R: Rheology> Isph<R> {
         gravity.max(self.rho * h * h / eta_all)
     }
 
-    /// King & Lind eq. (28), see the module documentation.
-    fn stable_dt(&self, umax: f64) -> f64 {
+    /// The flow's part of King & Lind eq. (28): the smaller of `h / |u|_max` and
+    /// `sqrt(h / g)`, infinite when nothing moves and nothing pulls. The step's other limits
+    /// come on top of it in [`Self::stable_dt`]; the near-surface sources measure their step
+    /// against it.
+    fn advective_limit(&self, umax: f64) -> f64 {
         let h = self.kernel.h();
         let mut lim = f64::INFINITY;
         if umax > 0.0 {
@@ -436,6 +439,13 @@ impl<R: Rheology> Isph<R> {
         if g > 0.0 {
             lim = lim.min((h / g).sqrt());
         }
+        lim
+    }
+
+    /// King & Lind eq. (28), see the module documentation.
+    fn stable_dt(&self, umax: f64) -> f64 {
+        let h = self.kernel.h();
+        let mut lim = self.advective_limit(umax);
         let rho_h2 = self.rho * h * h;
         let eta_all = self.model.max_viscosity() + self.evss.added_viscosity();
         if !lim.is_finite() {
@@ -1264,11 +1274,7 @@ impl<R: Rheology> Scheme for Isph<R> {
         // documentation, "Volume"); both per step of the default advective step.
         if let Some(s) = &surf {
             let c0 = self.c_lattice;
-            let g_norm = g.norm();
-            let mut lim = if umax > 0.0 { h / umax } else { f64::INFINITY };
-            if g_norm > 0.0 {
-                lim = lim.min((h / g_norm).sqrt());
-            }
+            let lim = self.advective_limit(umax);
             let ratio = dt / (DT_COEF_PER_FACTOR * DEFAULT_STEP_FACTOR * lim);
             let per_default_step = if ratio < 1.0 - 1e-9 { ratio } else { 1.0 };
             let alpha_ns = NEAR_SURFACE_INVARIANCE * per_default_step;
