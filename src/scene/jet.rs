@@ -377,21 +377,22 @@ impl Scene for Jet {
     }
 }
 
-/// What a user who runs the jet under ISPH is told once (the CLI's `viscosph run` on stderr,
-/// the FMU's log under `logStatusWarning` when it leaves initialization mode): at the
-/// resolutions that run in minutes ISPH's free surface (p = 0 instead of King & Lind 2021
-/// eq. (35a)'s tension) does not hold the falling column together, and at no resolution tried
-/// does its jet buckle (docs/methods.md, "The buckling jet", gives the measurements).
-pub const ISPH_WARNING: &str = "the jet under scheme = isph is not King & Lind's: at 6-10 \
-     particles across its falling column dilates and tears (p = 0 on the free surface), so it \
-     reaches the plate about 30 % early (Newtonian, H = 12 D, 6 across: 0.142 s against \
-     WCSPH's 0.225 s), and it does not buckle at any resolution tried (6-20 across); \
-     scheme = wcsph (the jet's default) reproduces the buckling. See docs/methods.md, \
-     \"The buckling jet\"";
+/// What a user who runs the jet under ISPH with `isph_free_surface = zero_pressure` is told
+/// once (the CLI's `viscosph run` on stderr, the FMU's log under `logStatusWarning` when it
+/// leaves initialization mode): with p = 0 on the free surface the compressed column carries its
+/// load with 2 eta instead of 4 eta and does not buckle (docs/methods.md, "Why ISPH's jet does
+/// not fold"). The jet's default, `auto`, takes King & Lind 2021 eq. (35a)'s normal stress.
+pub const ISPH_WARNING: &str = "the jet under scheme = isph with isph_free_surface = \
+     zero_pressure is not King & Lind's: with p = 0 on the free surface its column lands early \
+     (Newtonian, H = 12 D, 6 across: 0.165 s against 0.200 s with the normal stress and WCSPH's \
+     0.227 s) and does not buckle; isph_free_surface = auto or normal_stress buckles. See \
+     docs/methods.md, \"The buckling jet\"";
 
-/// [`ISPH_WARNING`] when `cfg` runs the jet under ISPH, else None.
+/// [`ISPH_WARNING`] when `cfg` runs the jet under ISPH with p = 0 on its free surface.
 pub fn isph_warning(cfg: &SceneConfig) -> Option<&'static str> {
-    (cfg.scene == crate::config::Scene::Jet && cfg.scheme == SchemeKind::Isph)
+    (cfg.scene == crate::config::Scene::Jet
+        && cfg.scheme == SchemeKind::Isph
+        && cfg.isph_free_surface == crate::config::IsphFreeSurface::ZeroPressure)
         .then_some(ISPH_WARNING)
 }
 

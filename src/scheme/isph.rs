@@ -234,7 +234,7 @@ use crate::boundary::mirror::MirrorWall;
 use crate::boundary::plate::Plate;
 use crate::boundary::wall_profile;
 use crate::boundary::Boundary;
-use crate::config::{ConformationMethod, IsphFrame, SceneConfig, ViscousStep};
+use crate::config::{ConformationMethod, IsphFrame, IsphFreeSurface, SceneConfig, ViscousStep};
 use crate::kernel::{Kernel, QuinticSpline};
 use crate::neighbors::{CellGrid, NeighborList};
 use crate::operators::{correction, shifting, surface};
@@ -357,6 +357,10 @@ pub struct Isph<R: Rheology> {
     c_lattice: f64,
     /// Its share below a straight surface row (near-surface density-invariant source).
     half_lattice: surface::HalfLattice,
+    /// Free-surface pressure from King & Lind eq. (35a)'s solvent normal stress, with the
+    /// projection's consistent ghost pressure (`isph_free_surface`; module documentation,
+    /// "Free-surface pressure"); p = 0 on the surface otherwise.
+    normal_stress: bool,
     pub timings: IsphTimings,
 }
 
@@ -404,8 +408,24 @@ impl<R: Rheology> Isph<R> {
             all_x: Vec::new(),
             c_lattice,
             half_lattice,
+            normal_stress: free_surface
+                && match cfg.isph_free_surface {
+                    IsphFreeSurface::Auto => cfg.scene == crate::config::Scene::Jet,
+                    IsphFreeSurface::ZeroPressure => false,
+                    IsphFreeSurface::NormalStress => true,
+                },
             timings: IsphTimings::default(),
             p,
+        }
+    }
+
+    /// The weight of `G s` in the solvent's surface traction: with the normal-stress surface
+    /// pressure that part is the pressure's (module documentation, "Free-surface pressure").
+    fn along(&self) -> f64 {
+        if self.normal_stress {
+            0.0
+        } else {
+            SURFACE_TRACTION_ALONG
         }
     }
 
@@ -1113,7 +1133,7 @@ impl<R: Rheology> Scheme for Isph<R> {
                         return Vec2::zeros();
                     }
                     let s_i = surface_sum(i);
-                    let sym = SURFACE_TRACTION_ALONG * kappa[i]
+                    let sym = self.along() * kappa[i]
                         + SURFACE_TRACTION_TRANSPOSED * kappa[i].transpose();
                     sym * s_i * (2.0 * mu[i] / rho)
                 })
@@ -1175,7 +1195,7 @@ impl<R: Rheology> Scheme for Isph<R> {
                 let st_fs = ppe::SurfaceTraction {
                     k: &k,
                     w: &w,
-                    along: SURFACE_TRACTION_ALONG,
+                    along: self.along(),
                     transposed: SURFACE_TRACTION_TRANSPOSED,
                 };
                 let stats = ppe::solve_viscous_coupled(
@@ -1351,6 +1371,26 @@ impl<R: Rheology> Scheme for Isph<R> {
             offset: &offsets,
         };
         let mut dirichlet = dirichlet;
+        // King & Lind (35a)'s solvent normal stress as the surface pressure (normal_stress):
+        // 2 mu n.D.n = -2 mu t.G(u*).t by continuity, from the velocity the projection is about
+        // to correct (module documentation, "Free-surface pressure"). Zero elsewhere.
+        let p_fs: Vec<f64> = match &surf {
+            Some(s) if self.normal_stress => (0..n)
+                .map(|i| {
+                    if !s.is_surface[i] || is_held(i) {
+                        return 0.0;
+                    }
+                    let t = Vec2::new(-s.normal[i].y, s.normal[i].x);
+                    -2.0 * mu[i] * t.dot(&(kappa_star[i] * t))
+                })
+                .collect(),
+            _ => vec![0.0; n],
+        };
+        for (i, d) in dirichlet.iter_mut().enumerate() {
+            if let Some(v) = d {
+                *v += p_fs[i];
+            }
+        }
         // Free-surface rows keep their continuity equation (module documentation, "Volume"):
         // row i of `-lap p = -b` takes `c_i p_i`, the part of Morris' Laplacian that the
         // neighbours missing beyond the surface would give if p fell linearly to 0 at `depth`
@@ -1377,7 +1417,7 @@ impl<R: Rheology> Scheme for Isph<R> {
                         let c = (-s.normal[i].dot(&m1)).max(0.0) / d;
                         if c > 0.0 && d > 0.0 {
                             dirichlet[i] = None;
-                            (c, 0.0)
+                            (c, p_fs[i])
                         } else {
                             (0.0, 0.0)
                         }
@@ -1414,27 +1454,74 @@ impl<R: Rheology> Scheme for Isph<R> {
                     .map(|(&i, o)| pres[i as usize] + o),
             )
             .collect();
-        let proj: Vec<(Vec2, Vec2)> = (0..n)
+        // The surface pressure each particle's truncated support sees (normal_stress): its own
+        // on a surface row, the kernel-weighted mean of its surface neighbours' elsewhere (zero
+        // where the support is full, where it would not matter: sum_j V grad W_ij = 0 there).
+        let p_ghost: Vec<f64> = match &surf {
+            Some(s) if self.normal_stress => (0..n)
+                .into_par_iter()
+                .with_min_len(MIN_TASK)
+                .map(|i| {
+                    if s.is_surface[i] {
+                        return p_fs[i];
+                    }
+                    let (mut num, mut den) = (0.0, 0.0);
+                    for &j in nl.of(i) {
+                        let j = j as usize;
+                        if j < n && s.is_surface[j] {
+                            let w = self.kernel.w(dom.delta(&all_x[j], &xs[i]).norm());
+                            num += w * p_fs[j];
+                            den += w;
+                        }
+                    }
+                    if den > 0.0 {
+                        num / den
+                    } else {
+                        0.0
+                    }
+                })
+                .collect(),
+            _ => Vec::new(),
+        };
+        let proj: Vec<(Vec2, Vec2, Vec2)> = (0..n)
             .into_par_iter()
             .with_min_len(MIN_TASK)
             .map(|i| {
                 let off = nl.offset(i);
                 let (mut f, mut fw) = (Vec2::zeros(), Vec2::zeros());
+                let mut s_i = Vec2::zeros();
                 for (kk, &j) in nl.of(i).iter().enumerate() {
                     let j = j as usize;
                     let a = pairs.grad[off + kk] * ((p_all[i] + p_all[j]) * (-vol / rho));
+                    s_i += pairs.grad[off + kk] * vol;
                     if j < n {
                         f += a;
                     } else {
                         fw += a;
                     }
                 }
-                (f + fw, fw)
+                // The positive form of p - p_s: the pressure beyond the surface continues as
+                // 2 p_s - p_i, not -p_i (module documentation, "Free-surface pressure").
+                let surface = match p_ghost.get(i) {
+                    Some(&ps) if !is_held(i) => s_i * (2.0 * ps / rho),
+                    _ => Vec2::zeros(),
+                };
+                (f + fw + surface, fw, surface)
             })
             .collect();
+        // The surface term is not a pair force and its sum does not cancel; a free surface
+        // exerts no net force, so its mean over the free particles is removed, as for the
+        // solvent's surface traction.
+        let free = (0..n).filter(|&i| !is_held(i)).count().max(1);
+        let surface_mean = proj.iter().fold(Vec2::zeros(), |a, p| a + p.2) / free as f64;
         let mut u_new = Vec::with_capacity(n);
-        for (i, (a, aw)) in proj.iter().enumerate() {
+        for (i, (a, aw, _)) in proj.iter().enumerate() {
             wall_on_fluid += aw * mass;
+            let a = if p_ghost.is_empty() || is_held(i) {
+                *a
+            } else {
+                a - surface_mean
+            };
             u_new.push(u_star[i] + (a + g_corr) * dt);
             if is_held(i) {
                 held_momentum += (fl.v[i] - u_new[i]) * mass;
