@@ -111,8 +111,26 @@
 //!   `rho` of the particles stays rho0.
 //! * A particle that crosses a plate is reflected back with its normal velocity removed (King's
 //!   code reflects it too); the momentum removed counts in the wall force.
-//! * **Free-surface pressure p = 0**, King's public code's choice, not the normal-stress value of
-//!   (35a). Measured on the drop of King & Lind IV.C at W/dr = 20: with the solvent's
+//! * **Free-surface pressure** (`isph_free_surface`): p = 0 (`zero_pressure`, every scene but
+//!   the jet) or (35a)'s solvent normal stress (`normal_stress`, the jet's `auto`). The
+//!   normal-stress form takes `p_s = 2 mu n.D.n = -2 mu t.G(u*).t` (continuity; G the velocity
+//!   gradient of the predicted velocity) as the surface value of the surface rows (the Robin
+//!   rows' target, added to the Dirichlet value) and projects with the positive form of
+//!   `p - p_s`: `sum_j (p_i + p_j) grad W_ij V_j - 2 p_s s_i`, `s_i = sum_j V_j grad W_ij`,
+//!   p_s a surface row's own value or its surface neighbours' kernel-weighted mean. King &
+//!   Lind's positive form on a truncated support acts as if p were -p_i beyond the surface,
+//!   i.e. p = 0 there whatever the surface value; with p_s it continues as 2 p_s - p_i, so a
+//!   compressive surface value no longer pushes its row out (the dilation that made (35a)
+//!   unusable before). The `G s` part of the solvent's surface traction is then the pressure's
+//!   (`along` = 0), and the `-2 p_s s_i` term, not a pair force, has its mean over the free
+//!   particles removed (a free surface exerts no net force; the jet's wall impulse balance
+//!   holds to round-off). Measured (Newtonian, `viscosph run`): the jet (H = 12 D, 6 / 10
+//!   across) buckles, 0.47 / 0.55 D, heap at 0.200 / 0.205 s (p = 0: 0.019 / 0.034 D, 0.165 /
+//!   0.175 s; WCSPH 0.227 s), and not from H = 2 D (0.035 D); the Re = 4 drop at W/dr = 20 /
+//!   40 gives W*(8) 1.997 / 1.910, largest |volume_error| 0.93 / 0.52 % (p = 0: 2.127 / 1.962,
+//!   0.85 / 0.45 %), hence p = 0 for drops (docs/methods.md, "The ISPH jet with (35a)").
+//!   **p = 0**, King's public code's choice, was first taken instead of the normal-stress value
+//!   of (35a) because, measured on the drop of King & Lind IV.C at W/dr = 20: with the solvent's
 //!   2 eta_s n.D.n in the Dirichlet value, the Newtonian drop splashes at impact (W* = 4.5 at
 //!   t* = 2.4, holes) with the explicit viscous step of (24)-(28), and a drop at rest blows up with
 //!   the implicit one (the value is explicit in the velocity, so it is a viscous term with the
