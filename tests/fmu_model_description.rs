@@ -234,7 +234,7 @@ fn every_variable_matches_the_tables() {
             .filter(|p| matches!(p.kind, Kind::Enumeration { .. }))
             .count()
     );
-    assert_eq!(twins, 9);
+    assert_eq!(twins, 10);
 
     let ms = child(root, "ModelStructure");
     for list in ["Outputs", "InitialUnknowns"] {

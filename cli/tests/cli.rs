@@ -307,24 +307,27 @@ fn sigterm_stops_the_run_and_keeps_its_files() {
 }
 
 #[test]
-fn the_jet_under_isph_warns_once() {
+fn the_jet_under_isph_with_p_zero_on_its_surface_warns_once() {
     let dir = tempfile::tempdir().unwrap();
-    let run = |scheme: &str| {
+    let run = |scheme: &str, surface: &str| {
         let (out, _) = run_20ms(
             dir.path(),
             &format!(
                 "scene = \"jet\"\nscheme = \"{scheme}\"\nrheology = \"newtonian\"\n\
-                 particles_per_diameter = 4\n"
+                 particles_per_diameter = 4\nisph_free_surface = \"{surface}\"\n"
             ),
         );
         assert!(out.status.success(), "{out:?}");
         String::from_utf8_lossy(&out.stderr).into_owned()
     };
-    let err = run("isph");
+    let err = run("isph", "zero_pressure");
     assert_eq!(err.matches("warning:").count(), 1, "{err}");
     assert!(
         err.contains("does not buckle") && err.contains("docs/methods.md"),
         "{err}"
     );
-    assert!(!run("wcsph").contains("warning:"));
+    // The jet's own choice (auto: King & Lind's (35a) normal stress) buckles: no warning.
+    assert!(!run("isph", "auto").contains("warning:"));
+    assert!(!run("isph", "normal_stress").contains("warning:"));
+    assert!(!run("wcsph", "auto").contains("warning:"));
 }

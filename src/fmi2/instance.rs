@@ -1141,14 +1141,18 @@ mod tests {
     }
 
     #[test]
-    fn the_jet_under_isph_warns_once_at_initialization() {
+    fn the_jet_under_isph_with_p_zero_on_its_surface_warns_once_at_initialization() {
         let twin = |name: &str| vr(name) + crate::config::NAME_VR_OFFSET;
-        let warnings = |scheme: &str| {
+        let warnings = |scheme: &str, surface: &str| {
             let (mut i, log) = instance(true);
             assert_eq!(
                 i.set_string(
-                    &[twin("scene"), twin("scheme")],
-                    &[Some("jet".into()), Some(scheme.into())]
+                    &[twin("scene"), twin("scheme"), twin("isph_free_surface")],
+                    &[
+                        Some("jet".into()),
+                        Some(scheme.into()),
+                        Some(surface.into())
+                    ]
                 ),
                 Status::Ok
             );
@@ -1162,14 +1166,16 @@ mod tests {
                 .map(|(_, _, m)| m.clone())
                 .collect::<Vec<_>>()
         };
-        let w = warnings("isph");
+        let w = warnings("isph", "zero_pressure");
         assert_eq!(w.len(), 1, "{w:?}");
         assert!(
             w[0].contains("does not buckle") && w[0].contains("docs/methods.md"),
             "{}",
             w[0]
         );
-        assert!(warnings("wcsph").is_empty());
+        // The jet's own choice (auto: King & Lind's (35a) normal stress) buckles: no warning.
+        assert!(warnings("isph", "auto").is_empty());
+        assert!(warnings("wcsph", "auto").is_empty());
     }
 
     #[test]
