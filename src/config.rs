@@ -982,11 +982,13 @@ fn choices_text(items: &[(&str, &str)]) -> String {
 /// (which are Fang's drop): King & Lind 2021 section IV.D's Oldroyd-B jet, D = 6 mm,
 /// U0 = 0.2 m/s, nozzle 12 D above the plate, eta0 = 8.8 Pa s, rho = 1023 kg/m3 (Re = 0.14),
 /// beta = 0.2, lambda = 0.05 s (Wi = lambda U0 / D = 5/3), at 6 particles across (King & Lind:
-/// 20), about a minute to t* = 8 (0.97 s). Under WCSPH, which buckles from 12 D and reproduces
-/// both of King & Lind's arrival trends (docs/methods.md). King & Lind's ISPH buckles too since
-/// its jet takes (35a)'s normal stress on the free surface (`isph_free_surface = auto`;
-/// Newtonian, 6 across: heap at 0.200 s against WCSPH's 0.227 s, 0.47 D), but its viscoelastic
-/// jets and the bench's trends have not been re-measured with it, so it is not the default yet.
+/// 20), about a minute to t* = 8 (0.97 s). Under WCSPH, which buckles from 12 D, reproduces
+/// both of King & Lind's arrival trends and reaches the plate within -2 to +8 % of the
+/// slender-sheet model ([`crate::analytic::falling_sheet`]). King & Lind's ISPH buckles too
+/// (`isph_free_surface = auto`), but at this resolution its column falls 11-14 % early (its
+/// implicit viscous step's splitting error), thins to two particles and tears, and with
+/// shorter steps its Wi = 5/3 heap breaks down (docs/methods.md, "Why WCSPH and not King &
+/// Lind's ISPH").
 /// Written as a scene file and read through the table ([`SceneConfig::for_scene`]), so every
 /// value is checked against its row's range.
 pub const JET_DEFAULTS: &str = "\

@@ -5,6 +5,7 @@
 mod common;
 
 use common::{i, r, s, series_bits};
+use viscosph::analytic::falling_sheet;
 use viscosph::config::{SceneConfig, Value};
 use viscosph::scene::jet::{buckling, Nozzle};
 use viscosph::simulation::Simulation;
@@ -240,7 +241,15 @@ fn newtonian_jet_buckles_from_twelve_jet_widths_not_from_two() {
     let high = after_impact(12.0);
     println!("H = 12 D: {high:?}");
     let impact = high.impact.unwrap();
-    assert!(impact > 0.1 && impact < 0.4, "impact at {impact} s");
+    // When it lands: the slender-sheet model of the same fluid (4 eta's pull against gravity)
+    // reaches 12 D at 0.2245 s, free fall would at 0.102 s.
+    let sheet = falling_sheet::arrival(&cfg(4, 12.0, &[]), 10, 1.0).unwrap();
+    println!("slender-sheet model: {sheet:?}");
+    assert!(
+        (impact - sheet.time).abs() < 0.03 * sheet.time,
+        "impact at {impact} s, sheet model {} s",
+        sheet.time
+    );
     assert!(high.onset.is_some());
     assert!(high.amplitude > 0.25 * D, "amplitude {} m", high.amplitude);
     let low = after_impact(2.0);
@@ -422,7 +431,8 @@ fn isph_holds_the_nozzle_at_the_inflow_velocity_on_its_lattice() {
 fn a_jet_scene_file_gets_king_and_linds_case() {
     use viscosph::config::{RheologyKind, Scene, SchemeKind};
     let c = SceneConfig::from_toml_str("scene = \"jet\"\n").unwrap();
-    // WCSPH until ISPH's free surface holds a jet together (src/scene/jet.rs DEFAULTS).
+    // WCSPH: it lands within a few per cent of the slender-sheet model where ISPH at this
+    // resolution falls 11-14 % early and tears (src/config.rs JET_DEFAULTS).
     assert_eq!(c.scheme, SchemeKind::Wcsph);
     assert_eq!(c.rheology, RheologyKind::OldroydB);
     assert_eq!(

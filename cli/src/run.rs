@@ -437,8 +437,9 @@ pub fn run(cfg: &SceneConfig, opts: &RunOptions) -> Result<RunResult, Box<dyn st
         // The last good state, where the cause can be looked at: one more panel of the
         // particle PNG and one more VTK snapshot.
         let mut shot = snapshot(&sim, ts);
+        // Short enough for one panel's width (a longer caption ran into the next panel).
         shot.title = format!(
-            "t = {}, last state before the {}",
+            "t = {}, before {}",
             time_text(sim.state().time),
             if error.is_some() {
                 "breakdown"

@@ -17,6 +17,7 @@
 //!
 //! [`SceneConfig`]: crate::config::SceneConfig
 
+pub mod falling_sheet;
 pub mod quadrature;
 pub mod steady_shear;
 pub mod waters_king;
