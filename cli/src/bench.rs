@@ -1262,6 +1262,12 @@ const REPORT_SECTIONS: &[(&str, &str, &str, &[&str])] = &[
         ],
     ),
     (
+        "The buckling jet (King & Lind section IV.D)",
+        "viscosph bench jet",
+        "jet.md",
+        &[],
+    ),
+    (
         "ISPH (King & Lind 2021) on their Newtonian Re = 4 drop (issue 11)",
         "nice -n 10 viscosph bench isph",
         "isph.md",
