@@ -7,8 +7,8 @@
 //! **Model** (the long-wave equations of a stretched viscous thread, Matovich & Pearson 1969,
 //! in their planar form: the sheet is thin compared with its length, so across it the flow is a
 //! uniform planar extension and its sides are traction free; the extensional viscosity is then
-//! 4 eta, Trouton 1906's 3 eta being the uniaxial value). Along the sheet, x downward from the exit, the
-//! sheet has width w(x, t) and speed v(x, t); per unit depth
+//! 4 eta, Trouton 1906's 3 eta being the uniaxial value). Along the sheet, x downward from the
+//! exit, the sheet has width w(x, t) and speed v(x, t); per unit depth
 //!
 //! ```text
 //! rho w (dv/dt) = d/dx (w sigma_xx) + rho g w,     sigma_yy = 0 (free sides),
@@ -22,10 +22,11 @@
 //! whose viscosity follows the extension rate through `solvent_viscosity`). The leading end is
 //! free (T = 0); fluid leaves the exit at U0 with the model's rest conformation.
 //!
-//! **Discretisation**: Lagrangian mass elements (`rho D dx0` each, `dx0 = D / n`), nodes moved
-//! by forward Euler at half the explicit viscous limit `rho dx0^2 / (8 eta_max)`, a fiftieth
-//! of the relaxation time and a hundredth of dx0 at the free-fall speed; an element is added at the exit each time the last one has left a
-//! full length. Converged to 0.4 % (Newtonian arrival 0.2237 / 0.2245 / 0.2249 s at
+//! **Discretisation**: Lagrangian mass elements (`rho D dx0` each, `dx0 = D / n`), nodes and
+//! conformations moved by forward Euler at half the explicit viscous limit
+//! `rho dx0^2 / (8 eta_max)`, a fiftieth of the relaxation time and a hundredth of dx0 at the
+//! free-fall speed (steps far below what the conformation's own accuracy needs); an element is
+//! added at the exit each time the last one has left a full length. Converged to 0.4 % (Newtonian arrival 0.2237 / 0.2245 / 0.2249 s at
 //! dx0 = 1 / 0.5 / 0.25 mm for King & Lind's jet; Oldroyd-B Wi = 5/3: 0.2027 / 0.2035 /
 //! 0.2039 s).
 //!
