@@ -243,7 +243,8 @@ fn newtonian_jet_buckles_from_twelve_jet_widths_not_from_two() {
     let impact = high.impact.unwrap();
     // When it lands: the slender-sheet model of the same fluid (4 eta's pull against gravity)
     // reaches 12 D at 0.2245 s, free fall would at 0.102 s.
-    let sheet = falling_sheet::arrival(&cfg(4, 12.0, &[]), 10, 1.0).unwrap();
+    let sheet =
+        falling_sheet::arrival(&cfg(4, 12.0, &[]), falling_sheet::ELEMENTS_PER_WIDTH, 1.0).unwrap();
     println!("slender-sheet model: {sheet:?}");
     assert!(
         (impact - sheet.time).abs() < 0.03 * sheet.time,

@@ -8,10 +8,6 @@ use viscosph::diagnostics::Outputs;
 use viscosph::scene::jet::{buckling, ONSET_FRACTION};
 use viscosph::SceneConfig;
 
-/// Elements per jet width of the slender-sheet reference ([`falling_sheet`]): within 0.4 % of
-/// converged for King & Lind's jet, about 0.1 s to compute.
-pub const SHEET_ELEMENTS: usize = 10;
-
 /// Lines describing the buckling of a jet run (None for other scenes).
 pub fn summary(cfg: &SceneConfig, series: &[(f64, Outputs)]) -> Option<String> {
     if cfg.scene != Scene::Jet {
@@ -26,7 +22,7 @@ pub fn summary(cfg: &SceneConfig, series: &[(f64, Outputs)]) -> Option<String> {
         return Some(text);
     };
     text.push_str(&format!("the jet reached the plate at t = {impact:.4} s"));
-    if let Some(sheet) = falling_sheet::arrival(cfg, SHEET_ELEMENTS, 10.0) {
+    if let Some(sheet) = falling_sheet::arrival(cfg, falling_sheet::ELEMENTS_PER_WIDTH, 10.0) {
         text.push_str(&format!(
             " (the slender-sheet model's arrival: {:.4} s)",
             sheet.time

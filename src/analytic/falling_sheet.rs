@@ -26,9 +26,9 @@
 //! conformations moved by forward Euler at half the explicit viscous limit
 //! `rho dx0^2 / (8 eta_max)`, a fiftieth of the relaxation time and a hundredth of dx0 at the
 //! free-fall speed (steps far below what the conformation's own accuracy needs); an element is
-//! added at the exit each time the last one has left a full length. Converged to 0.4 % (Newtonian arrival 0.2237 / 0.2245 / 0.2249 s at
-//! dx0 = 1 / 0.5 / 0.25 mm for King & Lind's jet; Oldroyd-B Wi = 5/3: 0.2027 / 0.2035 /
-//! 0.2039 s).
+//! added at the exit each time the last one has left a full length. Converged to 0.4 %
+//! (Newtonian arrival 0.2237 / 0.2245 / 0.2249 s at dx0 = 1 / 0.5 / 0.25 mm for King & Lind's
+//! jet; Oldroyd-B Wi = 5/3: 0.2027 / 0.2035 / 0.2039 s).
 //!
 //! **What it leaves out**: the head. A real (and an SPH) jet's leading end is a blunt, 2D blob
 //! about D long, which the slender model replaces by a free end; and the sheet ignores the
@@ -36,8 +36,12 @@
 //! support of the wall particles) comes a little (about 2 dx / v) before the model's arrival.
 
 use crate::config::SceneConfig;
-use crate::rheology::{conformation_rate, AnyRheology, Rheology};
+use crate::rheology::{advance, AnyRheology, ConformationMethod, Rheology};
 use crate::Mat2;
+
+/// Elements per jet width that `viscosph run` and `viscosph bench jet` use: within 0.4 % of
+/// converged for King & Lind's jet, about 0.1 s to compute.
+pub const ELEMENTS_PER_WIDTH: usize = 10;
 
 /// What [`arrival`] found.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -49,12 +53,6 @@ pub struct SheetArrival {
     /// Narrowest width of the sheet then [m] (as a fraction of D: how thin the column gets,
     /// in particles across when multiplied by `particles_per_diameter`).
     pub min_width: f64,
-}
-
-/// One material element: its conformation tensor.
-#[derive(Clone, Copy)]
-struct Element {
-    a: Mat2,
 }
 
 /// The slender-sheet arrival time for the jet of `cfg` (`jet_width`, `jet_velocity`,
@@ -92,27 +90,23 @@ fn arrival_with<R: Rheology>(
     let held = 4;
     let mut x: Vec<f64> = (0..=held).map(|k| -(k as f64) * dx0).collect();
     let mut v = vec![u0; x.len()];
-    let mut el = vec![
-        Element {
-            a: model.rest_conformation()
-        };
-        held
-    ];
+    // The conformation tensor of each element.
+    let mut el = vec![model.rest_conformation(); held];
     let mut tension = vec![0.0; el.len()];
     let mut t = 0.0;
     while t < t_max {
         // Tension of each element (between node e below and e + 1 above).
         tension.resize(el.len(), 0.0);
-        for (e, elem) in el.iter_mut().enumerate() {
+        for (e, a) in el.iter_mut().enumerate() {
             let l = x[e] - x[e + 1];
             let w = dm / (rho * l);
             let rate = (v[e] - v[e + 1]) / l;
             let kappa = Mat2::new(rate, 0.0, 0.0, -rate);
             let mut s = 4.0 * model.solvent_viscosity(&kappa) * rate;
             if R::ELASTIC {
-                let tau = model.polymer_stress(&elem.a);
+                let tau = model.polymer_stress(a);
                 s += tau[(0, 0)] - tau[(1, 1)];
-                elem.a += conformation_rate(model, &elem.a, &kappa) * dt;
+                *a = advance(ConformationMethod::Direct, model, a, a, &kappa, dt);
             }
             tension[e] = w * s;
         }
@@ -137,9 +131,7 @@ fn arrival_with<R: Rheology>(
         if top > -(held as f64 - 1.0) * dx0 {
             x.push(top - dx0);
             v.push(u0);
-            el.push(Element {
-                a: model.rest_conformation(),
-            });
+            el.push(model.rest_conformation());
         }
         if x[0] >= h {
             let min_width = (0..el.len())

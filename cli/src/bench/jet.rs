@@ -174,7 +174,9 @@ pub fn bench_jet(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::
         writeln!(
             md,
             "| {label} | {} | {} | {} | {} | {} | {:.3} | {} | {} | {:.1} | {} |",
-            opt(falling_sheet::arrival(&c, crate::jet::SHEET_ELEMENTS, 10.0).map(|a| a.time)),
+            opt(
+                falling_sheet::arrival(&c, falling_sheet::ELEMENTS_PER_WIDTH, 10.0).map(|a| a.time)
+            ),
             opt(contact(&res.series)),
             opt(b.impact),
             opt(b.onset),
