@@ -23,6 +23,8 @@ struct Case {
     settings: &'static [(&'static str, Setting)],
     t_end: f64,
     records: usize,
+    /// Outputs recorded beyond [`RECORDED`] (the scene's own: channel, jet, moving plate).
+    extra: &'static [&'static str],
 }
 
 #[derive(Clone, Copy)]
@@ -55,6 +57,7 @@ const CASES: &[Case] = &[
         ],
         t_end: 0.008,
         records: 8,
+        extra: &[],
     },
     Case {
         name: "wcsph_drop_newtonian_30deg",
@@ -68,6 +71,7 @@ const CASES: &[Case] = &[
         ],
         t_end: 0.008,
         records: 8,
+        extra: &[],
     },
     Case {
         name: "wcsph_drop_giesekus_log_evss_ren_stress",
@@ -84,6 +88,7 @@ const CASES: &[Case] = &[
         ],
         t_end: 0.008,
         records: 8,
+        extra: &[],
     },
     Case {
         name: "pdri_drop_oldroyd_b",
@@ -97,6 +102,7 @@ const CASES: &[Case] = &[
         ],
         t_end: 0.006,
         records: 6,
+        extra: &[],
     },
     Case {
         name: "pdri_drop_cross_30deg_tait",
@@ -113,6 +119,7 @@ const CASES: &[Case] = &[
         ],
         t_end: 0.006,
         records: 6,
+        extra: &[],
     },
     Case {
         name: "pdri_drop_fene_p_fang_walls_stress",
@@ -127,6 +134,7 @@ const CASES: &[Case] = &[
         ],
         t_end: 0.006,
         records: 6,
+        extra: &[],
     },
     Case {
         name: "isph_drop_oldroyd_b_30deg",
@@ -142,6 +150,7 @@ const CASES: &[Case] = &[
         ],
         t_end: 0.008,
         records: 8,
+        extra: &[],
     },
     Case {
         name: "wcsph_elliptical_drop",
@@ -152,6 +161,7 @@ const CASES: &[Case] = &[
         ],
         t_end: 0.002,
         records: 4,
+        extra: &[],
     },
     Case {
         name: "pdri_elliptical_drop",
@@ -162,8 +172,151 @@ const CASES: &[Case] = &[
         ],
         t_end: 0.002,
         records: 4,
+        extra: &[],
+    },
+    Case {
+        name: "wcsph_channel_oldroyd_b",
+        settings: &[
+            ("scene", S("channel")),
+            ("scheme", S("wcsph")),
+            ("rheology", S("oldroyd_b")),
+            ("sound_speed", R(2.0)),
+            ("particles_per_diameter", I(10)),
+        ],
+        t_end: 0.004,
+        records: 4,
+        extra: CHANNEL,
+    },
+    Case {
+        name: "pdri_channel_newtonian_tait",
+        settings: &[
+            ("scene", S("channel")),
+            ("scheme", S("pdri")),
+            ("rheology", S("newtonian")),
+            ("equation_of_state", S("tait")),
+            ("sound_speed", R(2.0)),
+            ("particles_per_diameter", I(10)),
+            ("density_reinit_interval", I(5)),
+        ],
+        t_end: 0.004,
+        records: 4,
+        extra: CHANNEL,
+    },
+    Case {
+        name: "isph_channel_oldroyd_b_lagrangian",
+        settings: &[
+            ("scene", S("channel")),
+            ("scheme", S("isph")),
+            ("rheology", S("oldroyd_b")),
+            ("isph_frame", S("lagrangian")),
+            ("particles_per_diameter", I(10)),
+        ],
+        t_end: 0.01,
+        records: 4,
+        extra: CHANNEL,
+    },
+    Case {
+        name: "isph_channel_giesekus_eulerian_explicit",
+        settings: &[
+            ("scene", S("channel")),
+            ("scheme", S("isph")),
+            ("rheology", S("giesekus")),
+            ("isph_frame", S("eulerian")),
+            ("isph_viscous_step", S("explicit")),
+            ("particles_per_diameter", I(10)),
+        ],
+        t_end: 0.01,
+        records: 4,
+        extra: CHANNEL,
+    },
+    Case {
+        name: "wcsph_jet_oldroyd_b",
+        settings: &[
+            ("scene", S("jet")),
+            ("scheme", S("wcsph")),
+            ("sound_speed", R(7.0)),
+            ("nozzle_height", R(0.02)),
+            ("container_width", R(0.05)),
+            ("particles_per_diameter", I(4)),
+        ],
+        t_end: 0.08,
+        records: 4,
+        extra: JET,
+    },
+    Case {
+        name: "isph_jet_oldroyd_b_normal_stress",
+        settings: &[
+            ("scene", S("jet")),
+            ("scheme", S("isph")),
+            ("nozzle_height", R(0.02)),
+            ("particles_per_diameter", I(4)),
+        ],
+        t_end: 0.08,
+        records: 4,
+        extra: JET,
+    },
+    Case {
+        name: "isph_drop_newtonian_explicit_zero_pressure",
+        settings: &[
+            ("scheme", S("isph")),
+            ("rheology", S("newtonian")),
+            ("isph_viscous_step", S("explicit")),
+            ("isph_free_surface", S("zero_pressure")),
+            ("initial_drop_height", R(0.012)),
+            ("particles_per_diameter", I(12)),
+        ],
+        t_end: 0.006,
+        records: 3,
+        extra: &[],
+    },
+    Case {
+        name: "isph_drop_ucm_evss_normal_stress",
+        settings: &[
+            ("scheme", S("isph")),
+            ("rheology", S("ucm")),
+            ("evss_alpha", R(0.05)),
+            ("isph_free_surface", S("normal_stress")),
+            ("initial_drop_height", R(0.012)),
+            ("particles_per_diameter", I(12)),
+        ],
+        t_end: 0.006,
+        records: 3,
+        extra: &[],
+    },
+    Case {
+        name: "wcsph_drop_plate_moving_in",
+        settings: &[
+            ("scheme", S("wcsph")),
+            ("rheology", S("newtonian")),
+            ("sound_speed", R(15.0)),
+            ("plate_velocity", R(-0.3)),
+            ("plate_inclination", R(20.0)),
+            ("initial_drop_height", R(0.014)),
+            ("particles_per_diameter", I(12)),
+        ],
+        t_end: 0.006,
+        records: 3,
+        extra: &["plate_displacement"],
+    },
+    Case {
+        name: "isph_drop_plate_moving_out",
+        settings: &[
+            ("scheme", S("isph")),
+            ("rheology", S("oldroyd_b")),
+            ("plate_velocity", R(0.1)),
+            ("initial_drop_height", R(0.012)),
+            ("particles_per_diameter", I(12)),
+        ],
+        t_end: 0.006,
+        records: 3,
+        extra: &["plate_displacement"],
     },
 ];
+
+/// The channel's own outputs.
+const CHANNEL: &[&str] = &["centreline_velocity", "flow_rate", "wall_shear_stress"];
+/// The jet's own outputs.
+const JET: &[&str] = &["injected_mass", "jet_deflection"];
 
 /// The outputs recorded, by name (outputs added later do not change the files).
 const RECORDED: [&str; 13] = [
@@ -209,7 +362,7 @@ fn trajectory(case: &Case) -> String {
         }
         let o = sim.outputs();
         write!(text, "{:016x}", sim.time().to_bits()).unwrap();
-        for name in RECORDED {
+        for name in RECORDED.iter().chain(case.extra) {
             let v = o.get(name).unwrap();
             write!(text, " {:016x}", v.to_bits()).unwrap();
         }
