@@ -2,10 +2,11 @@
 //!
 //! Detection, eqs. (36)-(37): particle i is on the free surface when
 //! `div r_i <= 1.4 + 0.5 max(C^_i - 1, -0.2)`, with the divergence of position
-//! `div r_i = sum_j V_j x_ji . grad_i W_ij` (2 under full support in 2D, 3 in 3D, about half that
-//! on a flat surface), the concentration `C_i = sum_j V_j W_ij` and `C^_i = N C_i / sum_k C_k` over the
-//! fluid particles: a compressed region (C^ > 1) gets a higher threshold. The threshold is the
-//! paper's as printed (King's code uses the same); the uncorrected kernel gradient is used.
+//! `div r_i = sum_j V_j x_ji . grad_i W_ij` (2 under full support in 2D, 3 in 3D, about half
+//! that on a flat surface), the concentration `C_i = sum_j V_j W_ij` and
+//! `C^_i = N C_i / sum_k C_k` over the N fluid particles: a compressed region (C^ > 1) gets a
+//! higher threshold. The threshold is the paper's (2D) as printed (King's code uses the same),
+//! kept with the dimension ([`Dim::surface_threshold`]); the uncorrected kernel gradient is used.
 //! Ghost (mirror) points count as neighbours, so particles next to a wall are not surface.
 //!
 //! Normals, eqs. (38)-(39): `n*_i = (1/h) sum_j V_j grad_i W_ij`, the concentration gradient,

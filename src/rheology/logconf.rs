@@ -143,9 +143,9 @@ where
     let e = spd_eigen(a);
     let l = Const::<N>::eigenvalues(&e);
     let r = Const::<N>::eigenvectors(&e);
-    let m = r.transpose() * kappa * r; // eq. (16)
-                                       // In the eigenframe: 2B from eq. (17) on the diagonal, the commutator (eqs. 18-19) off it
-                                       // (upper triangle, k < l, l_k >= l_l).
+    // M = R^T kappa R, eq. (16). In the eigenframe: 2B from eq. (17) on the diagonal, the
+    // commutator (eqs. 18-19) off it (upper triangle: entry (k, j), k < j, l_k >= l_j).
+    let m = r.transpose() * kappa * r;
     let mut frame = Tensor::<N>::zeros();
     for k in 0..N {
         frame[(k, k)] = 2.0 * m[(k, k)];
@@ -182,10 +182,10 @@ pub fn quasi_analytic_relaxation<const N: usize>(
 /// f = 1/(1 - tr(A)/L^2): `coef(f)` gives (alpha_R, beta_R). The factor is frozen at `a_coef` as
 /// long as that is below full extension and the relaxed state is too. Otherwise (a large
 /// convective step carried A to or past tr(A) = L^2) f is taken at the relaxed state itself: the
-/// trace T of the result solves T = tr(A) e^{-alpha_R beta_R h} + N (1 - e^{-alpha_R beta_R h})/beta_R
-/// (tr I = N) with f = f(T), which has a root below L^2 for both FENE-P (the right side tends to
-/// 0 as T -> L^2) and FENE-CR (it tends to N < L^2). So tr(A) < L^2 after every log-conformation
-/// step.
+/// trace T of the result solves
+/// T = tr(A) e^{-alpha_R beta_R h} + N (1 - e^{-alpha_R beta_R h})/beta_R (tr I = N) with
+/// f = f(T), which has a root below L^2 for both FENE-P (the right side tends to 0 as
+/// T -> L^2) and FENE-CR (it tends to N < L^2). So tr(A) < L^2 after every log-conformation step.
 #[inline]
 pub fn fene_relaxation<const N: usize>(
     a: &Tensor<N>,
