@@ -12,6 +12,7 @@ pub mod boundary;
 pub mod choice;
 pub mod config;
 pub mod diagnostics;
+pub mod dim;
 pub mod eos;
 pub mod fmi2;
 pub mod health;
@@ -25,10 +26,11 @@ pub mod scheme;
 pub mod simulation;
 pub mod state;
 
-/// 2D vector (nalgebra), the one math alias used everywhere.
-pub type Vec2 = nalgebra::Vector2<f64>;
-/// 2x2 matrix: velocity gradients, stresses and conformation tensors.
-pub type Mat2 = nalgebra::Matrix2<f64>;
+/// 2D vector: [`dim::Vector`] in two dimensions.
+pub type Vec2 = dim::Vector<2>;
+/// 2x2 tensor: velocity gradients, stresses and conformation tensors ([`dim::Tensor`] in two
+/// dimensions).
+pub type Mat2 = dim::Tensor<2>;
 
 pub use config::SceneConfig;
 pub use diagnostics::{Outputs, OUTPUTS};

@@ -1,6 +1,7 @@
 //! A uniform cell grid filled by a counting sort, and compact (CSR) neighbour lists built from it
-//! in parallel. In a domain periodic along x the grid spans exactly one period and its columns
-//! wrap, so particles near one end find those near the other at their nearest image.
+//! in parallel, in N dimensions. Along a periodic axis of the domain the grid spans exactly one
+//! period and its cells wrap, so particles near one end find those near the other at their
+//! nearest image.
 //!
 //! Determinism: each list is sorted by neighbour index, so every sum over neighbours runs in the
 //! same order whatever the thread count and whenever the list was last rebuilt. Lists are built with
@@ -8,81 +9,109 @@
 //! skin; particles in the skin but outside the support contribute exact zeros.
 
 use super::Domain;
-use crate::Vec2;
+use crate::dim::Vector;
 use rayon::prelude::*;
 
-/// Uniform grid of square cells over the bounding box of a point set.
-#[derive(Debug, Clone, Default)]
-pub struct CellGrid {
-    origin: Vec2,
-    /// Inverse cell side along x (the period over the number of columns when periodic) and y.
-    inv_cell_x: f64,
-    inv_cell: f64,
-    /// Whether the columns wrap (periodic along x).
-    periodic: bool,
-    nx: usize,
-    ny: usize,
+/// Uniform grid of cells over the bounding box of a point set in N dimensions (over one period
+/// along a periodic axis).
+#[derive(Debug, Clone)]
+pub struct Grid<const N: usize> {
+    origin: Vector<N>,
+    /// Inverse cell side per axis (the number of cells over the period along a periodic axis).
+    inv_cell: [f64; N],
+    /// Whether the cells wrap along each axis.
+    periodic: [bool; N],
+    /// Number of cells per axis; cell (c_0, c_1, ...) is number c_0 + n_0 (c_1 + n_1 (...)).
+    cells: [usize; N],
     /// `cell_start[c]..cell_start[c+1]` indexes `sorted` for cell c.
     cell_start: Vec<u32>,
     /// Point indices ordered by cell, ascending index within a cell.
     sorted: Vec<u32>,
 }
 
-impl CellGrid {
+/// The 2D grid.
+pub type CellGrid = Grid<2>;
+
+impl<const N: usize> Default for Grid<N> {
+    /// An empty grid of one cell.
+    fn default() -> Self {
+        Self {
+            origin: Vector::<N>::zeros(),
+            inv_cell: [1.0; N],
+            periodic: [false; N],
+            cells: [1; N],
+            cell_start: vec![0, 0],
+            sorted: Vec::new(),
+        }
+    }
+}
+
+impl<const N: usize> Grid<N> {
     /// Bin `points` into cells of side `cell` (>= the largest search radius used with it) in the
     /// domain `dom` (points of a periodic domain lie in its box).
-    pub fn build(points: &[Vec2], cell: f64, dom: &Domain) -> Self {
+    pub fn build(points: &[Vector<N>], cell: f64, dom: &Domain) -> Self {
         assert!(cell > 0.0 && cell.is_finite());
+        assert!(
+            (N..3).all(|a| dom.period(a).is_none()),
+            "a periodic axis the {N}D positions do not have"
+        );
+        let inv_cell = 1.0 / cell;
         if points.is_empty() {
             return Self {
-                inv_cell_x: 1.0 / cell,
-                inv_cell: 1.0 / cell,
-                nx: 1,
-                ny: 1,
-                cell_start: vec![0, 0],
+                inv_cell: [inv_cell; N],
                 ..Default::default()
             };
         }
         let (lo, hi) = points
             .par_iter()
             .fold(
-                || (Vec2::repeat(f64::INFINITY), Vec2::repeat(f64::NEG_INFINITY)),
+                || {
+                    (
+                        Vector::<N>::repeat(f64::INFINITY),
+                        Vector::<N>::repeat(f64::NEG_INFINITY),
+                    )
+                },
                 |(lo, hi), p| (lo.inf(p), hi.sup(p)),
             )
             .reduce(
-                || (Vec2::repeat(f64::INFINITY), Vec2::repeat(f64::NEG_INFINITY)),
+                || {
+                    (
+                        Vector::<N>::repeat(f64::INFINITY),
+                        Vector::<N>::repeat(f64::NEG_INFINITY),
+                    )
+                },
                 |a, b| (a.0.inf(&b.0), a.1.sup(&b.1)),
             );
-        let inv_cell = 1.0 / cell;
-        let ny = (((hi.y - lo.y) * inv_cell).floor() as usize + 1).max(1);
-        let (origin, nx, inv_cell_x) = match dom.period_x {
-            // Whole columns of at least `cell` across one period.
-            Some(l) => {
-                let nx = ((l * inv_cell).floor() as usize).max(1);
-                (Vec2::new(0.0, lo.y), nx, nx as f64 / l)
-            }
-            None => (
-                lo,
-                (((hi.x - lo.x) * inv_cell).floor() as usize + 1).max(1),
-                inv_cell,
-            ),
-        };
         let mut grid = Self {
-            origin,
-            inv_cell_x,
-            inv_cell,
-            periodic: dom.period_x.is_some(),
-            nx,
-            ny,
+            origin: lo,
+            inv_cell: [inv_cell; N],
+            periodic: [false; N],
+            cells: [1; N],
             cell_start: Vec::new(),
             sorted: Vec::new(),
         };
+        for a in 0..N {
+            match dom.period(a) {
+                // Whole cells of at least `cell` across one period, from 0.
+                Some(l) => {
+                    let n = ((l * inv_cell).floor() as usize).max(1);
+                    grid.origin[a] = 0.0;
+                    grid.cells[a] = n;
+                    grid.inv_cell[a] = n as f64 / l;
+                    grid.periodic[a] = true;
+                }
+                None => {
+                    grid.cells[a] = (((hi[a] - lo[a]) * inv_cell).floor() as usize + 1).max(1);
+                }
+            }
+        }
+        let total: usize = grid.cells.iter().product();
         let cells: Vec<u32> = points.par_iter().map(|p| grid.cell_of(p) as u32).collect();
-        let mut count = vec![0u32; nx * ny + 1];
+        let mut count = vec![0u32; total + 1];
         for &c in &cells {
             count[c as usize + 1] += 1;
         }
-        for c in 0..nx * ny {
+        for c in 0..total {
             count[c + 1] += count[c];
         }
         let mut fill = count.clone();
@@ -96,53 +125,78 @@ impl CellGrid {
         grid
     }
 
+    /// Cell coordinates of `p` per axis (outside the grid for a point outside its box).
     #[inline]
-    fn coords(&self, p: &Vec2) -> (i64, i64) {
-        (
-            ((p.x - self.origin.x) * self.inv_cell_x).floor() as i64,
-            ((p.y - self.origin.y) * self.inv_cell).floor() as i64,
-        )
+    fn coords(&self, p: &Vector<N>) -> [i64; N] {
+        std::array::from_fn(|a| ((p[a] - self.origin[a]) * self.inv_cell[a]).floor() as i64)
     }
 
+    /// The cell of `p`, the nearest one for a point outside the grid.
     #[inline]
-    fn cell_of(&self, p: &Vec2) -> usize {
-        let (cx, cy) = self.coords(p);
-        let cx = cx.clamp(0, self.nx as i64 - 1) as usize;
-        let cy = cy.clamp(0, self.ny as i64 - 1) as usize;
-        cy * self.nx + cx
+    fn cell_of(&self, p: &Vector<N>) -> usize {
+        let c = self.coords(p);
+        let mut index = 0;
+        for a in (0..N).rev() {
+            index = index * self.cells[a] + c[a].clamp(0, self.cells[a] as i64 - 1) as usize;
+        }
+        index
     }
 
-    /// Call `f` with every point index binned in the 3x3 block of cells around `p`
+    /// Call `f` with every point index binned in the 3^N block of cells around `p`
     /// (a superset of the points within one cell side of `p`).
     #[inline]
-    pub fn for_each_candidate(&self, p: &Vec2, mut f: impl FnMut(u32)) {
-        let (cx, cy) = self.coords(p);
-        // Columns to visit: the three around cx, wrapped and without repeats when periodic.
-        let nx = self.nx as i64;
-        let mut cols = [0i64; 3];
-        let mut ncols = 0;
-        if self.periodic {
-            let cx = cx.clamp(0, nx - 1);
-            for x in [cx - 1, cx, cx + 1] {
-                let x = x.rem_euclid(nx);
-                if !cols[..ncols].contains(&x) {
-                    cols[ncols] = x;
-                    ncols += 1;
+    pub fn for_each_candidate(&self, p: &Vector<N>, mut f: impl FnMut(u32)) {
+        let c = self.coords(p);
+        // Per axis, the cells to visit: the three around c, wrapped and without repeats along a
+        // periodic axis (a period of one or two cells), those inside the grid along an open one.
+        let mut span = [[0usize; 3]; N];
+        let mut len = [0usize; N];
+        for a in 0..N {
+            let n = self.cells[a] as i64;
+            if self.periodic[a] {
+                let ca = c[a].clamp(0, n - 1);
+                for x in [ca - 1, ca, ca + 1] {
+                    let x = x.rem_euclid(n) as usize;
+                    if !span[a][..len[a]].contains(&x) {
+                        span[a][len[a]] = x;
+                        len[a] += 1;
+                    }
+                }
+            } else {
+                for x in (c[a] - 1).max(0)..=(c[a] + 1).min(n - 1) {
+                    span[a][len[a]] = x as usize;
+                    len[a] += 1;
                 }
             }
-        } else {
-            for x in (cx - 1).max(0)..=(cx + 1).min(nx - 1) {
-                cols[ncols] = x;
-                ncols += 1;
+            if len[a] == 0 {
+                return;
             }
         }
-        for y in (cy - 1).max(0)..=(cy + 1).min(self.ny as i64 - 1) {
-            for &x in &cols[..ncols] {
-                let c = y as usize * self.nx + x as usize;
-                let (a, b) = (self.cell_start[c] as usize, self.cell_start[c + 1] as usize);
-                for &j in &self.sorted[a..b] {
-                    f(j);
+        // Every combination, x fastest.
+        let mut k = [0usize; N];
+        loop {
+            let mut cell = 0;
+            for a in (0..N).rev() {
+                cell = cell * self.cells[a] + span[a][k[a]];
+            }
+            let (from, to) = (
+                self.cell_start[cell] as usize,
+                self.cell_start[cell + 1] as usize,
+            );
+            for &j in &self.sorted[from..to] {
+                f(j);
+            }
+            let mut a = 0;
+            loop {
+                if a == N {
+                    return;
                 }
+                k[a] += 1;
+                if k[a] < len[a] {
+                    break;
+                }
+                k[a] = 0;
+                a += 1;
             }
         }
     }
@@ -162,10 +216,10 @@ impl NeighborList {
     /// Lists for every query point of the points within `radius`, using `grid` built over
     /// `points` with a cell side >= radius. Runs in parallel over chunks of query points and
     /// concatenates in order, so the result does not depend on the thread count.
-    pub fn build(
-        grid: &CellGrid,
-        points: &[Vec2],
-        queries: &[Vec2],
+    pub fn build<const N: usize>(
+        grid: &Grid<N>,
+        points: &[Vector<N>],
+        queries: &[Vector<N>],
         radius: f64,
         dom: &Domain,
     ) -> Self {
@@ -256,6 +310,7 @@ impl NeighborList {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::Vec2;
     use rand::{Rng, SeedableRng};
 
     #[test]
@@ -308,6 +363,47 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// Lists equal to brute force through `Domain::delta` for every combination of periodic
+    /// axes, in 2D and in 3D, including periods of one and two cells (too short for three
+    /// distinct cells along the axis).
+    fn brute_force_per_axis<const N: usize>(seed: u64, box_len: [f64; N], radius: f64) {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+        for mask in 0..(1usize << N) {
+            let mut dom = Domain::OPEN;
+            for (a, &l) in box_len.iter().enumerate() {
+                if mask & (1 << a) != 0 {
+                    dom = dom.with_period(a, l);
+                }
+            }
+            let pts: Vec<Vector<N>> = (0..1500)
+                .map(|_| Vector::<N>::from_fn(|a, _| rng.gen_range(0.0..box_len[a])))
+                .collect();
+            let grid = Grid::build(&pts, radius, &dom);
+            let list = NeighborList::build(&grid, &pts, &pts, radius, &dom);
+            for (i, q) in pts.iter().enumerate() {
+                let brute: Vec<u32> = (0..pts.len() as u32)
+                    .filter(|&j| dom.delta(&pts[j as usize], q).norm_squared() <= radius * radius)
+                    .collect();
+                assert_eq!(list.of(i), &brute[..], "{dom:?}, point {i}");
+            }
+        }
+    }
+
+    #[test]
+    fn periodic_along_each_axis_equals_brute_force_in_two_and_three_dimensions() {
+        brute_force_per_axis::<2>(5, [1.0, 0.6], 0.11);
+        brute_force_per_axis::<2>(6, [0.25, 0.5], 0.2);
+        brute_force_per_axis::<3>(7, [1.0, 0.6, 0.45], 0.15);
+        brute_force_per_axis::<3>(8, [0.3, 0.5, 0.7], 0.25);
+    }
+
+    #[test]
+    #[should_panic(expected = "periodic axis")]
+    fn a_period_along_a_missing_axis_is_refused() {
+        let pts = vec![Vec2::zeros()];
+        CellGrid::build(&pts, 0.1, &Domain::OPEN.with_period(2, 1.0));
     }
 
     #[test]

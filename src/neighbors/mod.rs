@@ -5,4 +5,4 @@ pub mod domain;
 pub mod grid;
 
 pub use domain::Domain;
-pub use grid::{CellGrid, NeighborList};
+pub use grid::{CellGrid, Grid, NeighborList};

@@ -4,8 +4,8 @@
 //! eqs. 20a-20b, after Swegle et al.).
 
 use crate::config::ArtificialStressKind;
+use crate::dim::{Const, Dim, Tensor, Vector};
 use crate::kernel::Kernel;
-use crate::{Mat2, Vec2};
 
 /// Monaghan's artificial viscosity Pi_ij (Fang 2006 eqs. 31-37).
 ///
@@ -15,14 +15,14 @@ use crate::{Mat2, Vec2};
 /// subtracts it; with Fang's literal sign the term would pull approaching particles together.
 #[inline]
 #[allow(clippy::too_many_arguments)]
-pub fn viscosity(
+pub fn viscosity<const N: usize>(
     alpha: f64,
     beta: f64,
     h: f64,
     c_mean: f64,
     rho_mean: f64,
-    vij: &Vec2,
-    xij: &Vec2,
+    vij: &Vector<N>,
+    xij: &Vector<N>,
     r2: f64,
 ) -> f64 {
     viscosity_of_dot(alpha, beta, h, c_mean, rho_mean, vij.dot(xij), r2)
@@ -50,55 +50,39 @@ pub fn viscosity_of_dot(
 }
 
 /// Artificial stress tensor R of one particle from its total stress sigma (Fang 2006 eqs. 40-44):
-/// rotate to principal axes, take R' = -eps sigma'/rho^2 for each tensile (positive) principal
-/// stress, rotate back.
-///
-/// Fang writes the rotation with the angle theta of eq. (41), tan 2 theta = 2 sxy / (sxx - syy);
-/// only cos 2 theta and sin 2 theta enter eqs. (40), (43) and (44), and both are ratios of the
-/// stress components, so no trigonometric function is evaluated (the profile of the 80 per
-/// diameter drop spent 7 % of its time in atan2, sin and cos here). With d = ((sxx - syy)^2 +
-/// 4 sxy^2)^{1/2}: cos 2 theta = (sxx - syy)/d, sin 2 theta = 2 sxy/d, and eqs. (43)-(44) give the
-/// principal stresses (sxx + syy)/2 +- d/2; an isotropic stress (d = 0) takes theta = 0.
+/// rotate to principal axes (eqs. 41, 43-44), take R' = -eps sigma'/rho^2 for each tensile
+/// (positive) principal stress (eq. 42), rotate back (eq. 40). The rotation is the dimension's
+/// [`Dim::map_principal`]: in 2D Fang's closed form without trigonometric functions (the profile
+/// of the 80 per diameter drop had spent 7 % of its time in atan2, sin and cos here).
 #[inline]
-pub fn fang_stress(eps: f64, sigma: &Mat2, rho: f64) -> Mat2 {
+pub fn fang_stress<const N: usize>(eps: f64, sigma: &Tensor<N>, rho: f64) -> Tensor<N>
+where
+    Const<N>: Dim,
+{
     if eps == 0.0 {
-        return Mat2::zeros();
+        return Tensor::<N>::zeros();
     }
-    let (sxx, syy, sxy) = (sigma[(0, 0)], sigma[(1, 1)], sigma[(0, 1)]);
-    let half_diff = 0.5 * (sxx - syy);
-    // d / 2. A plain square root of the sum of squares, not `hypot`: libm's `hypot` took 4 % of
-    // a WCSPH step (issue 16's profile), and the stresses here are nowhere near the over- and
-    // underflow it guards against. It differs from `hypot` in the last bit or two.
-    let radius = (half_diff * half_diff + sxy * sxy).sqrt();
-    let (cos2, sin2) = if radius > 0.0 {
-        (half_diff / radius, sxy / radius)
-    } else {
-        (1.0, 0.0)
-    };
-    let mean = 0.5 * (sxx + syy);
-    let (sp_xx, sp_yy) = (mean + radius, mean - radius); // eqs. (43)-(44)
     let k = -eps / (rho * rho);
-    let rxx = if sp_xx > 0.0 { k * sp_xx } else { 0.0 }; // eq. (42)
-    let ryy = if sp_yy > 0.0 { k * sp_yy } else { 0.0 };
-    // eq. (40): R = Q diag(rxx, ryy) Q^T with cos^2 = (1 + cos 2t)/2, cos sin = sin 2t / 2.
-    let (r_mean, r_half) = (0.5 * (rxx + ryy), 0.5 * (rxx - ryy));
-    let xy = r_half * sin2;
-    Mat2::new(r_mean + r_half * cos2, xy, xy, r_mean - r_half * cos2)
+    Const::<N>::map_principal(sigma, |s| if s > 0.0 { k * s } else { 0.0 })
 }
 
 /// Hessian of the kernel with respect to x_i, d2W_ij / dx_i^a dx_i^b, for the pair separation
 /// `xij` = x_i - x_j with |xij|^2 = `r2`: W'' e e^T + (W'/r)(I - e e^T) with e = xij/r (isotropic,
 /// W''(0) I, at r = 0).
 #[inline]
-pub fn kernel_hessian<K: Kernel>(kernel: &K, xij: &Vec2, r2: f64) -> Mat2 {
+pub fn kernel_hessian<const N: usize, K: Kernel<N>>(
+    kernel: &K,
+    xij: &Vector<N>,
+    r2: f64,
+) -> Tensor<N> {
     let r = r2.sqrt();
     let d2 = kernel.d2w(r);
     if r <= 1e-12 * kernel.h() {
-        return Mat2::identity() * d2;
+        return Tensor::<N>::identity() * d2;
     }
     let dw_r = kernel.dw_over_r(r);
     let ee = xij * xij.transpose() / r2;
-    ee * (d2 - dw_r) + Mat2::identity() * dw_r
+    ee * (d2 - dw_r) + Tensor::<N>::identity() * dw_r
 }
 
 /// Ren's artificial stress S of one particle (Ren 2015 eq. 20b), component by component:
@@ -106,10 +90,16 @@ pub fn kernel_hessian<K: Kernel>(kernel: &K, xij: &Vec2, r2: f64) -> Mat2 {
 /// that sum over the particle's neighbours. Swegle et al. showed the instability grows where the
 /// stress and the kernel's second derivative have the same sign, in compression as in tension;
 /// Fang's version only acts on tension.
+/// The tensors are read as symmetric (upper triangle).
 #[inline]
-pub fn ren_stress(b: f64, sigma: &Mat2, rho: f64, hess_sum: &Mat2) -> Mat2 {
+pub fn ren_stress<const N: usize>(
+    b: f64,
+    sigma: &Tensor<N>,
+    rho: f64,
+    hess_sum: &Tensor<N>,
+) -> Tensor<N> {
     if b == 0.0 {
-        return Mat2::zeros();
+        return Tensor::<N>::zeros();
     }
     let k = -b / (rho * rho);
     let pick = |a: usize, c: usize| {
@@ -119,8 +109,15 @@ pub fn ren_stress(b: f64, sigma: &Mat2, rho: f64, hess_sum: &Mat2) -> Mat2 {
             0.0
         }
     };
-    let xy = pick(0, 1);
-    Mat2::new(pick(0, 0), xy, xy, pick(1, 1))
+    let mut s = Tensor::<N>::zeros();
+    for a in 0..N {
+        for c in a..N {
+            let v = pick(a, c);
+            s[(a, c)] = v;
+            s[(c, a)] = v;
+        }
+    }
+    s
 }
 
 /// Intervals of the table of Ren's f^n over r in [0, 2h].
@@ -149,7 +146,12 @@ pub struct ArtificialStress {
 }
 
 impl ArtificialStress {
-    pub fn new<K: Kernel>(kernel: &K, kind: ArtificialStressKind, coef: f64, dx: f64) -> Self {
+    pub fn new<const N: usize, K: Kernel<N>>(
+        kernel: &K,
+        kind: ArtificialStressKind,
+        coef: f64,
+        dx: f64,
+    ) -> Self {
         let w_d0 = kernel.w(dx);
         let n = match kind {
             ArtificialStressKind::Fang => 4.0,
@@ -192,7 +194,15 @@ impl ArtificialStress {
 
     /// R of one particle from its total stress, density and (Ren) Hessian sum.
     #[inline]
-    pub fn of_particle(&self, sigma: &Mat2, rho: f64, hess: &Mat2) -> Mat2 {
+    pub fn of_particle<const N: usize>(
+        &self,
+        sigma: &Tensor<N>,
+        rho: f64,
+        hess: &Tensor<N>,
+    ) -> Tensor<N>
+    where
+        Const<N>: Dim,
+    {
         match self.kind {
             ArtificialStressKind::Fang => fang_stress(self.coef, sigma, rho),
             ArtificialStressKind::Ren => ren_stress(self.coef, sigma, rho, hess),
@@ -238,6 +248,7 @@ impl ArtificialStress {
 mod tests {
     use super::*;
     use crate::kernel::CubicSpline;
+    use crate::{Mat2, Vec2};
 
     #[test]
     fn kernel_hessian_matches_finite_differences() {

@@ -14,26 +14,26 @@
 //! [`MIN_EIGEN_RATIO`] times the larger: a well-supported particle has a ratio near 1, a
 //! free-surface particle about 0.3-0.5.
 
+use crate::dim::{Const, Dim, Tensor, Vector};
 use crate::kernel::Kernel;
 use crate::neighbors::{Domain, NeighborList};
-use crate::{Mat2, Vec2};
 use rayon::prelude::*;
 
 /// Smallest accepted ratio of the eigenvalues of M_i before falling back to L_i = I.
 pub const MIN_EIGEN_RATIO: f64 = 1e-2;
 
 /// M_i for every query particle of `nl` (points `x`, volumes `vol` cover fluid and ghosts).
-pub fn moment_matrices<K: Kernel>(
-    x: &[Vec2],
+pub fn moment_matrices<const N: usize, K: Kernel<N>>(
+    x: &[Vector<N>],
     vol: &[f64],
     nl: &NeighborList,
     kernel: &K,
     domain: &Domain,
-) -> Vec<Mat2> {
+) -> Vec<Tensor<N>> {
     (0..nl.len())
         .into_par_iter()
         .map(|i| {
-            let mut m = Mat2::zeros();
+            let mut m = Tensor::<N>::zeros();
             for &j in nl.of(i) {
                 let j = j as usize;
                 let xij = domain.delta(&x[i], &x[j]);
@@ -47,49 +47,49 @@ pub fn moment_matrices<K: Kernel>(
 }
 
 /// L_i = M_i^-1, or I where M_i is (nearly) singular (module documentation).
-pub fn correction_matrices<K: Kernel>(
-    x: &[Vec2],
+pub fn correction_matrices<const N: usize, K: Kernel<N>>(
+    x: &[Vector<N>],
     vol: &[f64],
     nl: &NeighborList,
     kernel: &K,
     domain: &Domain,
-) -> Vec<Mat2> {
+) -> Vec<Tensor<N>>
+where
+    Const<N>: Dim,
+{
     moment_matrices(x, vol, nl, kernel, domain)
         .into_iter()
         .map(|m| invert_or_identity(&m))
         .collect()
 }
 
-/// Inverse of a symmetric positive semi-definite 2x2 moment matrix, or I when its eigenvalue
-/// ratio is below [`MIN_EIGEN_RATIO`] or anything is not finite.
-pub fn invert_or_identity(m: &Mat2) -> Mat2 {
-    let (a, b, d) = (m[(0, 0)], 0.5 * (m[(0, 1)] + m[(1, 0)]), m[(1, 1)]);
-    let half_tr = 0.5 * (a + d);
-    let disc = (0.25 * (a - d) * (a - d) + b * b).sqrt();
-    let (lmax, lmin) = (half_tr + disc, half_tr - disc);
-    if !(lmax.is_finite() && lmin.is_finite()) || lmax <= 0.0 || lmin < MIN_EIGEN_RATIO * lmax {
-        return Mat2::identity();
-    }
-    let det = a * d - b * b;
-    Mat2::new(d, -b, -b, a) / det
+/// Inverse of a symmetric positive semi-definite moment matrix, or I when its smallest
+/// eigenvalue is below [`MIN_EIGEN_RATIO`] times its largest or anything is not finite: the
+/// dimension's [`Dim::invert_spd_or_identity`] (in 2D from the trace, the discriminant and the
+/// adjugate).
+pub fn invert_or_identity<const N: usize>(m: &Tensor<N>) -> Tensor<N>
+where
+    Const<N>: Dim,
+{
+    Const::<N>::invert_spd_or_identity(m, MIN_EIGEN_RATIO)
 }
 
 /// Corrected gradient of a scalar field (King & Lind 2021 eq. (20), negative form):
 /// `<grad phi>_i = sum_j (phi_j - phi_i) L_i grad W_ij V_j` for every query particle of `nl`.
 /// `phi` covers every point (fluid and ghosts).
-pub fn gradient<K: Kernel>(
-    x: &[Vec2],
+pub fn gradient<const N: usize, K: Kernel<N>>(
+    x: &[Vector<N>],
     vol: &[f64],
     phi: &[f64],
     nl: &NeighborList,
     kernel: &K,
     domain: &Domain,
-    l: &[Mat2],
-) -> Vec<Vec2> {
+    l: &[Tensor<N>],
+) -> Vec<Vector<N>> {
     (0..nl.len())
         .into_par_iter()
         .map(|i| {
-            let mut g = Vec2::zeros();
+            let mut g = Vector::<N>::zeros();
             for &j in nl.of(i) {
                 let j = j as usize;
                 let xij = domain.delta(&x[i], &x[j]);
@@ -105,6 +105,7 @@ mod tests {
     use super::*;
     use crate::kernel::QuinticSpline;
     use crate::operators::fixtures::disc;
+    use crate::{Mat2, Vec2};
 
     /// On a disordered disc (every particle moved by up to +/-0.25 dr), the corrected gradient
     /// of a linear field is exact to round-off at every particle, the free-surface ring

@@ -2,10 +2,11 @@
 //!
 //! Detection, eqs. (36)-(37): particle i is on the free surface when
 //! `div r_i <= 1.4 + 0.5 max(C^_i - 1, -0.2)`, with the divergence of position
-//! `div r_i = sum_j V_j x_ji . grad_i W_ij` (2 under full support in 2D, about 1 on a flat
-//! surface), the concentration `C_i = sum_j V_j W_ij` and `C^_i = N C_i / sum_k C_k` over the
-//! fluid particles: a compressed region (C^ > 1) gets a higher threshold. The threshold is the
-//! paper's as printed (King's code uses the same); the uncorrected kernel gradient is used.
+//! `div r_i = sum_j V_j x_ji . grad_i W_ij` (2 under full support in 2D, 3 in 3D, about half
+//! that on a flat surface), the concentration `C_i = sum_j V_j W_ij` and
+//! `C^_i = N C_i / sum_k C_k` over the N fluid particles: a compressed region (C^ > 1) gets a
+//! higher threshold. The threshold is the paper's (2D) as printed (King's code uses the same),
+//! kept with the dimension ([`Dim::surface_threshold`]); the uncorrected kernel gradient is used.
 //! Ghost (mirror) points count as neighbours, so particles next to a wall are not surface.
 //!
 //! Normals, eqs. (38)-(39): `n*_i = (1/h) sum_j V_j grad_i W_ij`, the concentration gradient,
@@ -14,20 +15,25 @@
 //! j), so the unit outward normal is `-n_i / |n_i|` (the paper's n in (34) points out of the
 //! fluid). Where |n_i| vanishes (deep inside), the normal is zero.
 
+use crate::dim::{Const, Dim, Vector};
 use crate::kernel::Kernel;
 use crate::neighbors::{Domain, NeighborList};
 use crate::Vec2;
 use rayon::prelude::*;
 
-/// Detection threshold of King & Lind 2021 eq. (36) at normalised concentration `c_hat`.
+/// Detection threshold of King & Lind 2021 eq. (36) at normalised concentration `c_hat` in N
+/// dimensions ([`Dim::surface_threshold`]; in 2D 1.4 + 0.5 max(C^ - 1, -0.2)).
 #[inline]
-pub fn threshold(c_hat: f64) -> f64 {
-    1.4 + 0.5 * (c_hat - 1.0).max(-0.2)
+pub fn threshold<const N: usize>(c_hat: f64) -> f64
+where
+    Const<N>: Dim,
+{
+    Const::<N>::surface_threshold(c_hat)
 }
 
-/// Everything section III.D defines, per fluid particle.
+/// Everything section III.D defines, per fluid particle, in N dimensions (2 unless said).
 #[derive(Debug, Clone, PartialEq)]
-pub struct Surface {
+pub struct Surface<const N: usize = 2> {
     /// Divergence of position, eq. (36).
     pub div_r: Vec<f64>,
     /// Concentration C_i, eq. (37).
@@ -37,27 +43,30 @@ pub struct Surface {
     /// Near-surface set NS: not in FS, with at least one neighbour in FS.
     pub near_surface: Vec<bool>,
     /// Unit outward normal (zero where the smoothed concentration gradient vanishes).
-    pub normal: Vec<Vec2>,
+    pub normal: Vec<Vector<N>>,
 }
 
 /// Detect the free surface and its normals for the first `n_fluid` points; the lists'
 /// neighbours may include ghosts (index >= `n_fluid`), which count in div r and C but carry no
 /// normal.
-pub fn detect<K: Kernel>(
-    x: &[Vec2],
+pub fn detect<const N: usize, K: Kernel<N>>(
+    x: &[Vector<N>],
     vol: &[f64],
     nl: &NeighborList,
     kernel: &K,
     domain: &Domain,
     n_fluid: usize,
-) -> Surface {
+) -> Surface<N>
+where
+    Const<N>: Dim,
+{
     assert!(nl.len() >= n_fluid);
     let inv_h = 1.0 / kernel.h();
     // Per particle: div r, C, n*.
-    let (div_r, (concentration, n_star)): (Vec<f64>, (Vec<f64>, Vec<Vec2>)) = (0..n_fluid)
+    let (div_r, (concentration, n_star)): (Vec<f64>, (Vec<f64>, Vec<Vector<N>>)) = (0..n_fluid)
         .into_par_iter()
         .map(|i| {
-            let (mut div, mut c, mut g) = (0.0, 0.0, Vec2::zeros());
+            let (mut div, mut c, mut g) = (0.0, 0.0, Vector::<N>::zeros());
             for &j in nl.of(i) {
                 let j = j as usize;
                 let xij = domain.delta(&x[i], &x[j]);
@@ -86,20 +95,23 @@ pub fn detect<K: Kernel>(
 /// The rest of [`detect`] from its per-particle sums (div r, C and n* of eqs. (36)-(38)), for a
 /// scheme that gathers them in a pass it makes anyway (ISPH's fused neighbour pass).
 #[allow(clippy::too_many_arguments)]
-pub fn detect_from_sums<K: Kernel>(
+pub fn detect_from_sums<const N: usize, K: Kernel<N>>(
     div_r: Vec<f64>,
     concentration: Vec<f64>,
-    n_star: Vec<Vec2>,
-    x: &[Vec2],
+    n_star: Vec<Vector<N>>,
+    x: &[Vector<N>],
     vol: &[f64],
     nl: &NeighborList,
     kernel: &K,
     domain: &Domain,
     n_fluid: usize,
-) -> Surface {
+) -> Surface<N>
+where
+    Const<N>: Dim,
+{
     let mean_c = crate::operators::sums::fixed_sum(&concentration) / n_fluid.max(1) as f64;
     let is_surface: Vec<bool> = (0..n_fluid)
-        .map(|i| div_r[i] <= threshold(concentration[i] / mean_c))
+        .map(|i| div_r[i] <= threshold::<N>(concentration[i] / mean_c))
         .collect();
     let near_surface = (0..n_fluid)
         .into_par_iter()
@@ -114,7 +126,7 @@ pub fn detect_from_sums<K: Kernel>(
     let normal = (0..n_fluid)
         .into_par_iter()
         .map(|i| {
-            let mut n = Vec2::zeros();
+            let mut n = Vector::<N>::zeros();
             for &j in nl.of(i) {
                 let j = j as usize;
                 if j >= n_fluid {
@@ -127,7 +139,7 @@ pub fn detect_from_sums<K: Kernel>(
             if len > 1e-12 {
                 -n / len
             } else {
-                Vec2::zeros()
+                Vector::<N>::zeros()
             }
         })
         .collect();
@@ -437,8 +449,8 @@ mod tests {
 
     #[test]
     fn threshold_follows_the_concentration() {
-        assert_eq!(threshold(1.0), 1.4);
-        assert!((threshold(0.5) - 1.3).abs() < 1e-15);
-        assert!((threshold(1.2) - 1.5).abs() < 1e-15);
+        assert_eq!(threshold::<2>(1.0), 1.4);
+        assert!((threshold::<2>(0.5) - 1.3).abs() < 1e-15);
+        assert!((threshold::<2>(1.2) - 1.5).abs() < 1e-15);
     }
 }

@@ -8,16 +8,22 @@
 //! viscous stress goes through [`Rheology::solvent_viscosity`].
 
 use super::Rheology;
-use crate::Mat2;
+use crate::dim::{Const, Dim, Tensor};
 
 /// Local shear rate gamma_dot = [2 tr(d^2)]^{1/2} with d = (kappa + kappa^T)/2 (Ren 2015 eq. 7).
 /// In simple shear v_x = g y it is |g|.
 #[inline]
-pub fn shear_rate(kappa: &Mat2) -> f64 {
-    let (dxx, dyy) = (kappa[(0, 0)], kappa[(1, 1)]);
-    let dxy = 0.5 * (kappa[(0, 1)] + kappa[(1, 0)]);
-    // tr(d^2) = dxx^2 + dyy^2 + 2 dxy^2
-    (2.0 * (dxx * dxx + dyy * dyy + 2.0 * dxy * dxy)).sqrt()
+pub fn shear_rate<const N: usize>(kappa: &Tensor<N>) -> f64 {
+    // tr(d^2) = sum_k d_kk^2 + 2 sum_{k < l} d_kl^2
+    let (mut diagonal, mut off) = (0.0, 0.0);
+    for k in 0..N {
+        diagonal += kappa[(k, k)] * kappa[(k, k)];
+        for l in k + 1..N {
+            let d = 0.5 * (kappa[(k, l)] + kappa[(l, k)]);
+            off += d * d;
+        }
+    }
+    (2.0 * (diagonal + 2.0 * off)).sqrt()
 }
 
 #[derive(Debug, Clone)]
@@ -52,7 +58,7 @@ impl Cross {
 impl Rheology for Cross {
     inelastic_common!();
     #[inline]
-    fn solvent_viscosity(&self, kappa: &Mat2) -> f64 {
+    fn solvent_viscosity<const N: usize>(&self, kappa: &Tensor<N>) -> f64 {
         self.viscosity_at(shear_rate(kappa))
     }
     /// mu lies between eta_inf and eta0 (eq. 6 is monotone in gamma_dot).

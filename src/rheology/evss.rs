@@ -29,7 +29,7 @@
 //! Morris' form).
 
 use super::Rheology;
-use crate::Mat2;
+use crate::dim::Tensor;
 
 /// The EVSS split of King & Lind eqs. (6)-(8), resolved for one model.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -75,7 +75,7 @@ impl Evss {
     /// Phi = tau_p - alpha_V eta0 2D (eq. 6), with 2D = kappa + kappa^T and
     /// kappa_ab = d v_a / d x_b.
     #[inline]
-    pub fn phi(&self, tau_p: &Mat2, kappa: &Mat2) -> Mat2 {
+    pub fn phi<const N: usize>(&self, tau_p: &Tensor<N>, kappa: &Tensor<N>) -> Tensor<N> {
         tau_p - (kappa + kappa.transpose()) * self.added
     }
 }

@@ -3,7 +3,7 @@
 
 use super::logconf::fene_relaxation;
 use super::{Polymer, Rheology};
-use crate::Mat2;
+use crate::dim::{Const, Dim, Tensor};
 
 #[derive(Debug, Clone)]
 pub struct FeneCr {
@@ -23,7 +23,7 @@ impl FeneCr {
 
     /// Spring factor 1 / (1 - tr(A)/L^2).
     #[inline]
-    pub fn spring(&self, a: &Mat2) -> f64 {
+    pub fn spring<const N: usize>(&self, a: &Tensor<N>) -> f64 {
         1.0 / (1.0 - a.trace() / self.l2)
     }
 }
@@ -31,17 +31,25 @@ impl FeneCr {
 impl Rheology for FeneCr {
     polymer_common!();
     #[inline]
-    fn strain(&self, a: &Mat2) -> Mat2 {
-        (a - Mat2::identity()) * self.spring(a)
+    fn strain<const N: usize>(&self, a: &Tensor<N>) -> Tensor<N> {
+        (a - Tensor::<N>::identity()) * self.spring(a)
     }
     #[inline]
-    fn relax(&self, a: &Mat2) -> Mat2 {
-        (a - Mat2::identity()) * self.spring(a)
+    fn relax<const N: usize>(&self, a: &Tensor<N>) -> Tensor<N> {
+        (a - Tensor::<N>::identity()) * self.spring(a)
     }
     /// Eq. (32) with alpha_R = 1/(1 - tr(A)/L^2) frozen at `a_coef`, beta_R = 1, safeguarded to
     /// stay below tr(A) = L^2 ([`super::logconf::fene_relaxation`]).
     #[inline]
-    fn relaxation_step(&self, a: &Mat2, a_coef: &Mat2, dt: f64) -> Mat2 {
+    fn relaxation_step<const N: usize>(
+        &self,
+        a: &Tensor<N>,
+        a_coef: &Tensor<N>,
+        dt: f64,
+    ) -> Tensor<N>
+    where
+        Const<N>: Dim,
+    {
         fene_relaxation(a, a_coef, self.l2, dt / self.p.lambda, |f| (f, 1.0))
     }
 }

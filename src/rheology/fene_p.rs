@@ -1,14 +1,14 @@
 //! FENE-P (King & Lind 2021 Table I): f_S = f_R = A / (1 - tr(A)/L^2) - I, with the
-//! extensibility L^2 (`fene_L2`, > 2 in 2D so that the rest state exists). tr(A) < L^2 always
+//! extensibility L^2 (`fene_L2`, > N = tr I so that the rest state exists). tr(A) < L^2 always
 //! holds for the exact dynamics: the spring factor 1/(1 - tr(A)/L^2) diverges as the chains
 //! approach full extension.
 //!
 //! This is the unnormalised form of the table, whose rest state (f_R = 0) is
-//! A = L^2/(L^2 + 2) I, not I; see [`Rheology::rest_conformation`].
+//! A = L^2/(L^2 + N) I in N dimensions, not I; see [`Rheology::rest_conformation`].
 
 use super::logconf::fene_relaxation;
 use super::{Polymer, Rheology};
-use crate::Mat2;
+use crate::dim::{Const, Dim, Tensor};
 
 #[derive(Debug, Clone)]
 pub struct FeneP {
@@ -28,7 +28,7 @@ impl FeneP {
 
     /// Spring factor 1 / (1 - tr(A)/L^2).
     #[inline]
-    pub fn spring(&self, a: &Mat2) -> f64 {
+    pub fn spring<const N: usize>(&self, a: &Tensor<N>) -> f64 {
         1.0 / (1.0 - a.trace() / self.l2)
     }
 }
@@ -36,20 +36,31 @@ impl FeneP {
 impl Rheology for FeneP {
     polymer_common!();
     #[inline]
-    fn strain(&self, a: &Mat2) -> Mat2 {
-        a * self.spring(a) - Mat2::identity()
+    fn strain<const N: usize>(&self, a: &Tensor<N>) -> Tensor<N> {
+        a * self.spring(a) - Tensor::<N>::identity()
     }
     #[inline]
-    fn relax(&self, a: &Mat2) -> Mat2 {
-        a * self.spring(a) - Mat2::identity()
+    fn relax<const N: usize>(&self, a: &Tensor<N>) -> Tensor<N> {
+        a * self.spring(a) - Tensor::<N>::identity()
     }
     /// Eq. (32) with alpha_R = 1, beta_R = 1/(1 - tr(A)/L^2) frozen at `a_coef`, safeguarded to
     /// stay below tr(A) = L^2 ([`super::logconf::fene_relaxation`]).
     #[inline]
-    fn relaxation_step(&self, a: &Mat2, a_coef: &Mat2, dt: f64) -> Mat2 {
+    fn relaxation_step<const N: usize>(
+        &self,
+        a: &Tensor<N>,
+        a_coef: &Tensor<N>,
+        dt: f64,
+    ) -> Tensor<N>
+    where
+        Const<N>: Dim,
+    {
         fene_relaxation(a, a_coef, self.l2, dt / self.p.lambda, |f| (1.0, f))
     }
-    fn rest_conformation(&self) -> Mat2 {
-        Mat2::identity() * (self.l2 / (self.l2 + 2.0))
+    fn rest_conformation<const N: usize>(&self) -> Tensor<N>
+    where
+        Const<N>: Dim,
+    {
+        Tensor::<N>::identity() * (self.l2 / (self.l2 + N as f64))
     }
 }

@@ -8,7 +8,7 @@
 
 use super::logconf::giesekus_relaxation;
 use super::{Polymer, Rheology};
-use crate::Mat2;
+use crate::dim::{Const, Dim, Tensor};
 
 #[derive(Debug, Clone)]
 pub struct Giesekus {
@@ -30,17 +30,25 @@ impl Giesekus {
 impl Rheology for Giesekus {
     polymer_common!();
     #[inline]
-    fn strain(&self, a: &Mat2) -> Mat2 {
-        a - Mat2::identity()
+    fn strain<const N: usize>(&self, a: &Tensor<N>) -> Tensor<N> {
+        a - Tensor::<N>::identity()
     }
     #[inline]
-    fn relax(&self, a: &Mat2) -> Mat2 {
+    fn relax<const N: usize>(&self, a: &Tensor<N>) -> Tensor<N> {
         let al = self.alpha;
-        a * a * al + a * (1.0 - 2.0 * al) - Mat2::identity() * (1.0 - al)
+        a * a * al + a * (1.0 - 2.0 * al) - Tensor::<N>::identity() * (1.0 - al)
     }
     /// Exact solution of eq. (29b) (no frozen coefficients: `a_coef` is unused).
     #[inline]
-    fn relaxation_step(&self, a: &Mat2, _a_coef: &Mat2, dt: f64) -> Mat2 {
+    fn relaxation_step<const N: usize>(
+        &self,
+        a: &Tensor<N>,
+        _a_coef: &Tensor<N>,
+        dt: f64,
+    ) -> Tensor<N>
+    where
+        Const<N>: Dim,
+    {
         giesekus_relaxation(a, self.alpha, dt / self.p.lambda)
     }
 }

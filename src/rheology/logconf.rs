@@ -56,85 +56,65 @@
 //!   dt u_ps . grad Psi using [`log_spd`] / [`exp_sym`].
 
 use super::Rheology;
-use crate::Mat2;
+use crate::dim::{Const, Dim, Tensor};
 
-/// Eigen-decomposition of a symmetric 2x2 tensor, A = R diag(l1, l2) R^T with
-/// R = [[c, -s], [s, c]] and l1 >= l2 (King & Lind eq. 12), in closed form.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SymEigen {
-    /// cos of the angle of the first eigenvector to the x axis.
-    pub c: f64,
-    /// sin of that angle.
-    pub s: f64,
-    /// Larger eigenvalue.
-    pub l1: f64,
-    /// Smaller eigenvalue.
-    pub l2: f64,
-}
+pub use crate::dim::SymEigen;
 
-impl SymEigen {
-    /// Eigenvector matrix R (columns are the eigenvectors).
-    #[inline]
-    pub fn rotation(&self) -> Mat2 {
-        Mat2::new(self.c, -self.s, self.s, self.c)
-    }
-
-    /// R diag(f1, f2) R^T, exactly symmetric.
-    #[inline]
-    pub fn compose(&self, f1: f64, f2: f64) -> Mat2 {
-        let (c2, s2, cs) = (self.c * self.c, self.s * self.s, self.c * self.s);
-        let xy = (f1 - f2) * cs;
-        Mat2::new(f1 * c2 + f2 * s2, xy, xy, f1 * s2 + f2 * c2)
-    }
-}
-
-/// Closed-form eigen-decomposition of the symmetric part of `a`. An isotropic tensor (A = l I)
-/// gets R = I (atan2(0, 0) = 0): no division anywhere. For an SPD tensor the smaller eigenvalue is
-/// taken as det/l1, which keeps its relative accuracy when the tensor is strongly anisotropic.
+/// Eigen-decomposition of the symmetric part of `a` (King & Lind eq. 12) through the
+/// dimension's [`Dim::sym_eigen`], eigenvalues descending; in 2D the closed form
+/// [`SymEigen`].
 #[inline]
-pub fn sym_eigen(a: &Mat2) -> SymEigen {
-    let (xx, yy) = (a[(0, 0)], a[(1, 1)]);
-    let xy = 0.5 * (a[(0, 1)] + a[(1, 0)]);
-    let m = 0.5 * (xx + yy);
-    let hd = 0.5 * (xx - yy);
-    let r = hd.hypot(xy);
-    let (s, c) = (0.5 * xy.atan2(hd)).sin_cos();
-    let l1 = m + r;
-    let det = xx.mul_add(yy, -xy * xy);
-    let l2 = if l1 > 0.0 && det > 0.0 {
-        det / l1
-    } else {
-        m - r
-    };
-    SymEigen { c, s, l1, l2 }
+pub fn sym_eigen<const N: usize>(a: &Tensor<N>) -> <Const<N> as Dim>::SymEigen
+where
+    Const<N>: Dim,
+{
+    Const::<N>::sym_eigen(a)
 }
 
 /// [`sym_eigen`] of a tensor known to be SPD. Unless it is diagonal, its entries resolve the
-/// smaller eigenvalue only down to about eps * l1: a conformation stretched beyond l1/l2 ~ 1e16
-/// can round to a singular or indefinite tensor. A smaller eigenvalue that rounded to zero or
-/// below is replaced by that resolution, eps * l1, so that the logarithm stays finite.
+/// smaller eigenvalues only down to about eps * l1 (l1 the largest): a conformation stretched
+/// beyond l1/l ~ 1e16 can round to a singular or indefinite tensor. An eigenvalue that rounded to
+/// zero or below is replaced by that resolution, eps * l1, so that the logarithm stays finite.
 #[inline]
-fn spd_eigen(a: &Mat2) -> SymEigen {
-    let mut e = sym_eigen(a);
-    if e.l2.is_nan() || e.l2 <= 0.0 {
-        e.l2 = e.l1 * f64::EPSILON;
+fn spd_eigen<const N: usize>(a: &Tensor<N>) -> <Const<N> as Dim>::SymEigen
+where
+    Const<N>: Dim,
+{
+    let e = Const::<N>::sym_eigen(a);
+    let mut l = Const::<N>::eigenvalues(&e);
+    let mut floored = false;
+    for k in 1..N {
+        if l[k].is_nan() || l[k] <= 0.0 {
+            l[k] = l[0] * f64::EPSILON;
+            floored = true;
+        }
     }
-    e
+    if floored {
+        Const::<N>::with_eigenvalues(&e, &l)
+    } else {
+        e
+    }
 }
 
 /// Psi = log A = R ln(Lambda) R^T for SPD `a` (King & Lind eq. 13).
 #[inline]
-pub fn log_spd(a: &Mat2) -> Mat2 {
+pub fn log_spd<const N: usize>(a: &Tensor<N>) -> Tensor<N>
+where
+    Const<N>: Dim,
+{
     let e = spd_eigen(a);
-    e.compose(e.l1.ln(), e.l2.ln())
+    Const::<N>::compose(&e, &Const::<N>::eigenvalues(&e).map(f64::ln))
 }
 
 /// A = exp(Psi) = R exp(ln Lambda) R^T for symmetric `psi` (King & Lind step 6): SPD by
 /// construction.
 #[inline]
-pub fn exp_sym(psi: &Mat2) -> Mat2 {
-    let e = sym_eigen(psi);
-    e.compose(e.l1.exp(), e.l2.exp())
+pub fn exp_sym<const N: usize>(psi: &Tensor<N>) -> Tensor<N>
+where
+    Const<N>: Dim,
+{
+    let e = Const::<N>::sym_eigen(psi);
+    Const::<N>::compose(&e, &Const::<N>::eigenvalues(&e).map(f64::exp))
 }
 
 /// (ln l2 - ln l1) / (l2 - l1), the divided difference of ln, for l1 >= l2 > 0; 1/l1 when they
@@ -151,25 +131,30 @@ fn ln_divided_difference(l1: f64, l2: f64) -> f64 {
 
 /// The convective rate of the log-conformation, (Omega Psi - Psi Omega) + 2 B (King & Lind
 /// eq. 30a without the ALE term), at the SPD conformation `a` and velocity gradient
-/// kappa_ab = d v_a / d x_b. Eqs. (16)-(19) give, in the eigenframe of A,
-/// 2B = diag(2 m11, 2 m22) and (Omega Psi - Psi Omega)_12 = omega (psi_2 - psi_1); the latter is
-/// evaluated as a divided difference so that equal eigenvalues are handled exactly.
+/// kappa_ab = d v_a / d x_b. Eqs. (16)-(19) give, in the eigenframe of A (M = R^T kappa R),
+/// 2B = diag(2 m_kk) and (Omega Psi - Psi Omega)_kl = omega_kl (psi_l - psi_k)
+/// = (l_l m_kl + l_k m_lk) (ln l_l - ln l_k) / (l_l - l_k); the latter is evaluated as a divided
+/// difference so that equal eigenvalues are handled exactly.
 #[inline]
-pub fn log_convection_rate(a: &Mat2, kappa: &Mat2) -> Mat2 {
+pub fn log_convection_rate<const N: usize>(a: &Tensor<N>, kappa: &Tensor<N>) -> Tensor<N>
+where
+    Const<N>: Dim,
+{
     let e = spd_eigen(a);
-    let r = e.rotation();
-    let m = r.transpose() * kappa * r; // eq. (16)
-    let (m11, m12, m21, m22) = (m[(0, 0)], m[(0, 1)], m[(1, 0)], m[(1, 1)]);
-    // omega (psi_2 - psi_1), eqs. (18)-(19).
-    let off = (e.l2 * m12 + e.l1 * m21) * ln_divided_difference(e.l1, e.l2);
-    // Back to the lab frame: R [[2 m11, off], [off, 2 m22]] R^T (2B from eq. 17 plus the commutator).
-    let (c, s) = (e.c, e.s);
-    let (c2, s2, cs) = (c * c, s * s, c * s);
-    let (d1, d2) = (2.0 * m11, 2.0 * m22);
-    let xx = d1 * c2 + d2 * s2 - 2.0 * off * cs;
-    let yy = d1 * s2 + d2 * c2 + 2.0 * off * cs;
-    let xy = (d1 - d2) * cs + off * (c2 - s2);
-    Mat2::new(xx, xy, xy, yy)
+    let l = Const::<N>::eigenvalues(&e);
+    let r = Const::<N>::eigenvectors(&e);
+    // M = R^T kappa R, eq. (16). In the eigenframe: 2B from eq. (17) on the diagonal, the
+    // commutator (eqs. 18-19) off it (upper triangle: entry (k, j), k < j, l_k >= l_j).
+    let m = r.transpose() * kappa * r;
+    let mut frame = Tensor::<N>::zeros();
+    for k in 0..N {
+        frame[(k, k)] = 2.0 * m[(k, k)];
+        for j in k + 1..N {
+            frame[(k, j)] =
+                (l[j] * m[(k, j)] + l[k] * m[(j, k)]) * ln_divided_difference(l[k], l[j]);
+        }
+    }
+    Const::<N>::from_eigenframe(&e, &frame)
 }
 
 /// Quasi-analytic relaxation, King & Lind eq. (32): the exact solution over `dt` of
@@ -177,13 +162,19 @@ pub fn log_convection_rate(a: &Mat2, kappa: &Mat2) -> Mat2 {
 /// A(dt) = A e^{-alpha_R beta_R dt/lambda} + (1 - e^{-alpha_R beta_R dt/lambda}) I / beta_R.
 /// SPD in, SPD out whenever alpha_R beta_R >= 0 and beta_R > 0.
 #[inline]
-pub fn quasi_analytic_relaxation(a: &Mat2, alpha_r: f64, beta_r: f64, dt_over_lambda: f64) -> Mat2 {
+pub fn quasi_analytic_relaxation<const N: usize>(
+    a: &Tensor<N>,
+    alpha_r: f64,
+    beta_r: f64,
+    dt_over_lambda: f64,
+) -> Tensor<N> {
     let x = -alpha_r * beta_r * dt_over_lambda;
     let decay = x.exp();
     let grow = -x.exp_m1() / beta_r;
     let mut out = a * decay;
-    out[(0, 0)] += grow;
-    out[(1, 1)] += grow;
+    for k in 0..N {
+        out[(k, k)] += grow;
+    }
     out
 }
 
@@ -191,17 +182,18 @@ pub fn quasi_analytic_relaxation(a: &Mat2, alpha_r: f64, beta_r: f64, dt_over_la
 /// f = 1/(1 - tr(A)/L^2): `coef(f)` gives (alpha_R, beta_R). The factor is frozen at `a_coef` as
 /// long as that is below full extension and the relaxed state is too. Otherwise (a large
 /// convective step carried A to or past tr(A) = L^2) f is taken at the relaxed state itself: the
-/// trace T of the result solves T = tr(A) e^{-alpha_R beta_R h} + 2 (1 - e^{-alpha_R beta_R h})/beta_R
-/// with f = f(T), which has a root below L^2 for both FENE-P (the right side tends to 0 as
-/// T -> L^2) and FENE-CR (it tends to 2 < L^2). So tr(A) < L^2 after every log-conformation step.
+/// trace T of the result solves
+/// T = tr(A) e^{-alpha_R beta_R h} + N (1 - e^{-alpha_R beta_R h})/beta_R (tr I = N) with
+/// f = f(T), which has a root below L^2 for both FENE-P (the right side tends to 0 as
+/// T -> L^2) and FENE-CR (it tends to N < L^2). So tr(A) < L^2 after every log-conformation step.
 #[inline]
-pub fn fene_relaxation(
-    a: &Mat2,
-    a_coef: &Mat2,
+pub fn fene_relaxation<const N: usize>(
+    a: &Tensor<N>,
+    a_coef: &Tensor<N>,
     l2: f64,
     dt_over_lambda: f64,
     coef: impl Fn(f64) -> (f64, f64),
-) -> Mat2 {
+) -> Tensor<N> {
     let spring = |trace: f64| 1.0 / (1.0 - trace / l2);
     let f = spring(a_coef.trace());
     if f > 0.0 && f.is_finite() {
@@ -215,7 +207,7 @@ pub fn fene_relaxation(
     let relaxed_trace = |t: f64| {
         let (alpha_r, beta_r) = coef(spring(t));
         let x = -alpha_r * beta_r * dt_over_lambda;
-        t0 * x.exp() - 2.0 * x.exp_m1() / beta_r
+        t0 * x.exp() - N as f64 * x.exp_m1() / beta_r
     };
     // Bisection on [0, L^2): relaxed_trace(t) - t is positive at 0 and tends to a negative limit.
     let (mut lo, mut hi) = (0.0, l2);
@@ -237,7 +229,11 @@ pub fn fene_relaxation(
 /// Explicit relaxation step, King & Lind eq. (33): A - (dt/lambda) f_R(A). Not used by
 /// [`advance_log`] (it is not positive-definiteness preserving); kept for comparison.
 #[inline]
-pub fn explicit_relaxation<R: Rheology>(model: &R, a: &Mat2, dt: f64) -> Mat2 {
+pub fn explicit_relaxation<const N: usize, R: Rheology>(
+    model: &R,
+    a: &Tensor<N>,
+    dt: f64,
+) -> Tensor<N> {
     a - model.relax(a) * (dt / model.relaxation_time())
 }
 
@@ -249,14 +245,21 @@ pub fn explicit_relaxation<R: Rheology>(model: &R, a: &Mat2, dt: f64) -> Mat2 {
 /// For 0 <= alpha <= 1/2 and l0 > 0 both numerator and denominator stay positive: SPD is kept for
 /// any step; alpha = 0 gives the Oldroyd-B relaxation 1 + (l0 - 1) e^{-t/lambda}.
 #[inline]
-pub fn giesekus_relaxation(a: &Mat2, alpha: f64, dt_over_lambda: f64) -> Mat2 {
+pub fn giesekus_relaxation<const N: usize>(
+    a: &Tensor<N>,
+    alpha: f64,
+    dt_over_lambda: f64,
+) -> Tensor<N>
+where
+    Const<N>: Dim,
+{
     let e = spd_eigen(a);
     let decay = (-dt_over_lambda).exp();
     let relax = |l0: f64| {
         let q = (l0 - 1.0) * decay / (alpha * l0 + 1.0 - alpha);
         (1.0 + (1.0 - alpha) * q) / (1.0 - alpha * q)
     };
-    e.compose(relax(e.l1), relax(e.l2))
+    Const::<N>::compose(&e, &Const::<N>::eigenvalues(&e).map(relax))
 }
 
 /// One log-conformation step of length `dt` from `a_base`, with the convective rate and frozen
@@ -265,13 +268,16 @@ pub fn giesekus_relaxation(a: &Mat2, alpha: f64, dt_over_lambda: f64) -> Mat2 {
 /// Psi* = log A + dt [(Omega Psi - Psi Omega) + 2B] (eqs. 13, 16-19, 31), A* = exp(Psi*)
 /// (step 6), relax dt/2. Returns an SPD tensor for any SPD `a_base` and `a_eval`.
 #[inline]
-pub fn advance_log<R: Rheology>(
+pub fn advance_log<const N: usize, R: Rheology>(
     model: &R,
-    a_base: &Mat2,
-    a_eval: &Mat2,
-    kappa: &Mat2,
+    a_base: &Tensor<N>,
+    a_eval: &Tensor<N>,
+    kappa: &Tensor<N>,
     dt: f64,
-) -> Mat2 {
+) -> Tensor<N>
+where
+    Const<N>: Dim,
+{
     let half = 0.5 * dt;
     let a1 = model.relaxation_step(a_base, a_eval, half);
     let psi = log_spd(&a1) + log_convection_rate(a_eval, kappa) * dt;
@@ -282,6 +288,7 @@ pub fn advance_log<R: Rheology>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::Mat2;
 
     fn close(a: &Mat2, b: &Mat2, tol: f64) -> bool {
         (a - b).abs().max() <= tol * (1.0 + b.abs().max())

@@ -31,7 +31,7 @@ macro_rules! polymer_common {
     () => {
         const ELASTIC: bool = true;
         #[inline]
-        fn solvent_viscosity(&self, _kappa: &Mat2) -> f64 {
+        fn solvent_viscosity<const N: usize>(&self, _kappa: &Tensor<N>) -> f64 {
             self.p.eta_s
         }
         fn max_viscosity(&self) -> f64 {
@@ -53,15 +53,23 @@ macro_rules! polymer_common {
 macro_rules! ptt_common {
     () => {
         #[inline]
-        fn strain(&self, a: &Mat2) -> Mat2 {
-            a - Mat2::identity()
+        fn strain<const N: usize>(&self, a: &Tensor<N>) -> Tensor<N> {
+            a - Tensor::<N>::identity()
         }
         #[inline]
-        fn relax(&self, a: &Mat2) -> Mat2 {
-            (a - Mat2::identity()) * self.factor(a)
+        fn relax<const N: usize>(&self, a: &Tensor<N>) -> Tensor<N> {
+            (a - Tensor::<N>::identity()) * self.factor(a)
         }
         #[inline]
-        fn relaxation_step(&self, a: &Mat2, a_coef: &Mat2, dt: f64) -> Mat2 {
+        fn relaxation_step<const N: usize>(
+            &self,
+            a: &Tensor<N>,
+            a_coef: &Tensor<N>,
+            dt: f64,
+        ) -> Tensor<N>
+        where
+            Const<N>: Dim,
+        {
             $crate::rheology::logconf::quasi_analytic_relaxation(
                 a,
                 self.factor(a_coef),
@@ -83,15 +91,23 @@ macro_rules! inelastic_common {
             f64::INFINITY
         }
         #[inline]
-        fn strain(&self, _a: &Mat2) -> Mat2 {
-            Mat2::zeros()
+        fn strain<const N: usize>(&self, _a: &Tensor<N>) -> Tensor<N> {
+            Tensor::<N>::zeros()
         }
         #[inline]
-        fn relax(&self, _a: &Mat2) -> Mat2 {
-            Mat2::zeros()
+        fn relax<const N: usize>(&self, _a: &Tensor<N>) -> Tensor<N> {
+            Tensor::<N>::zeros()
         }
         #[inline]
-        fn relaxation_step(&self, a: &Mat2, _a_coef: &Mat2, _dt: f64) -> Mat2 {
+        fn relaxation_step<const N: usize>(
+            &self,
+            a: &Tensor<N>,
+            _a_coef: &Tensor<N>,
+            _dt: f64,
+        ) -> Tensor<N>
+        where
+            Const<N>: Dim,
+        {
             *a
         }
     };
@@ -118,7 +134,7 @@ pub use oldroyd_b::OldroydB;
 pub use ptt_exponential::PttExponential;
 pub use ptt_linear::PttLinear;
 
-use crate::Mat2;
+use crate::dim::{Const, Dim, Tensor};
 
 pub const CONFORMATION_METHODS: &[(&str, &str)] = &[
     (
@@ -160,12 +176,18 @@ impl Polymer {
 
 /// A constitutive model. `ELASTIC = false` models (Newtonian, Cross) carry no conformation
 /// tensor: schemes test the constant, so the tensor work compiles away for them.
+///
+/// The tensor functions take N x N tensors, N inferred from the argument, with tr I = N wherever
+/// the identity's trace enters (FENE-P's rest state, the PTT factors, the FENE relaxation). Two
+/// ask for a dimension the solver has (`Const<N>: Dim`): `relaxation_step`, which may go through
+/// the dimension's eigen-decomposition, and `rest_conformation`, which has no argument to infer
+/// N from.
 pub trait Rheology: Send + Sync + Clone + std::fmt::Debug + 'static {
     /// Whether the model has a conformation tensor (a polymer stress).
     const ELASTIC: bool;
     /// Viscosity of the Newtonian (solvent) part [Pa s] given the velocity gradient
     /// kappa_ab = d v_a / d x_b. Constant for most models; shear-rate dependent for Cross.
-    fn solvent_viscosity(&self, kappa: &Mat2) -> f64;
+    fn solvent_viscosity<const N: usize>(&self, kappa: &Tensor<N>) -> f64;
     /// Largest value `solvent_viscosity` can take plus the polymer viscosity [Pa s]: what the
     /// viscous time-step limit (Fang 2006 eq. 53) must respect.
     fn max_viscosity(&self) -> f64;
@@ -174,21 +196,31 @@ pub trait Rheology: Send + Sync + Clone + std::fmt::Debug + 'static {
     /// Relaxation time lambda [s] (infinite for inelastic models).
     fn relaxation_time(&self) -> f64;
     /// Strain function f_S(A) (King & Lind Table I).
-    fn strain(&self, a: &Mat2) -> Mat2;
+    fn strain<const N: usize>(&self, a: &Tensor<N>) -> Tensor<N>;
     /// Relaxation function f_R(A) (King & Lind Table I).
-    fn relax(&self, a: &Mat2) -> Mat2;
+    fn relax<const N: usize>(&self, a: &Tensor<N>) -> Tensor<N>;
 
     /// The relaxation sub-problem dA/dt = -f_R(A)/lambda (King & Lind eq. 29b) advanced by `dt`
     /// from `a`, as the log-conformation integration needs it: quasi-analytically (eq. 32) with
     /// the coefficients alpha_R, beta_R frozen at `a_coef` for models with
     /// f_R = alpha_R (beta_R A - I), exactly for Giesekus. Must map SPD to SPD; the FENE models
     /// also keep tr(A) < L^2 ([`logconf::fene_relaxation`]).
-    fn relaxation_step(&self, a: &Mat2, a_coef: &Mat2, dt: f64) -> Mat2;
+    fn relaxation_step<const N: usize>(
+        &self,
+        a: &Tensor<N>,
+        a_coef: &Tensor<N>,
+        dt: f64,
+    ) -> Tensor<N>
+    where
+        Const<N>: Dim;
 
     /// Conformation of the fluid at rest, where f_R vanishes: I for every model except the
-    /// (unnormalised, King & Lind Table I) FENE-P, whose rest state is L^2/(L^2 + 2) I.
-    fn rest_conformation(&self) -> Mat2 {
-        Mat2::identity()
+    /// (unnormalised, King & Lind Table I) FENE-P, whose rest state is L^2/(L^2 + N) I.
+    fn rest_conformation<const N: usize>(&self) -> Tensor<N>
+    where
+        Const<N>: Dim,
+    {
+        Tensor::<N>::identity()
     }
 
     /// Polymer viscosity eta_p = (1 - beta) eta0 [Pa s] (0 for inelastic models).
@@ -202,7 +234,7 @@ pub trait Rheology: Send + Sync + Clone + std::fmt::Debug + 'static {
 
     /// Polymer stress tau_p = (eta_p / lambda) f_S(A) (King & Lind eq. 9).
     #[inline]
-    fn polymer_stress(&self, a: &Mat2) -> Mat2 {
+    fn polymer_stress<const N: usize>(&self, a: &Tensor<N>) -> Tensor<N> {
         self.strain(a) * self.modulus()
     }
 }
@@ -210,7 +242,11 @@ pub trait Rheology: Send + Sync + Clone + std::fmt::Debug + 'static {
 /// Right-hand side of the conformation equation: kappa A + A kappa^T - f_R(A) / lambda
 /// (King & Lind eqs. 10-11 in the Lagrangian frame).
 #[inline]
-pub fn conformation_rate<R: Rheology>(model: &R, a: &Mat2, kappa: &Mat2) -> Mat2 {
+pub fn conformation_rate<const N: usize, R: Rheology>(
+    model: &R,
+    a: &Tensor<N>,
+    kappa: &Tensor<N>,
+) -> Tensor<N> {
     kappa * a + a * kappa.transpose() - model.relax(a) / model.relaxation_time()
 }
 
@@ -235,22 +271,29 @@ pub fn conformation_rate<R: Rheology>(model: &R, a: &Mat2, kappa: &Mat2) -> Mat2
 /// `advance(method, model, &a_n, &a_n, &kappa_n, dt)`: first order in time, as in the paper.
 /// The ALE term u_ps . grad(Psi) of a shifting scheme is not included (see [`logconf`]).
 #[inline]
-pub fn advance<R: Rheology>(
+pub fn advance<const N: usize, R: Rheology>(
     method: ConformationMethod,
     model: &R,
-    a_base: &Mat2,
-    a_eval: &Mat2,
-    kappa: &Mat2,
+    a_base: &Tensor<N>,
+    a_eval: &Tensor<N>,
+    kappa: &Tensor<N>,
     dt: f64,
-) -> Mat2 {
+) -> Tensor<N>
+where
+    Const<N>: Dim,
+{
     match method {
         // A scheme resolves `Auto` before it gets here; unresolved it means the direct update.
         ConformationMethod::Direct | ConformationMethod::Auto => {
             let mut a = a_base + conformation_rate(model, a_eval, kappa) * dt;
             // Keep exact symmetry against round-off.
-            let off = 0.5 * (a[(0, 1)] + a[(1, 0)]);
-            a[(0, 1)] = off;
-            a[(1, 0)] = off;
+            for k in 0..N {
+                for l in k + 1..N {
+                    let off = 0.5 * (a[(k, l)] + a[(l, k)]);
+                    a[(k, l)] = off;
+                    a[(l, k)] = off;
+                }
+            }
             a
         }
         ConformationMethod::Log => logconf::advance_log(model, a_base, a_eval, kappa, dt),

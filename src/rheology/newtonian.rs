@@ -1,7 +1,7 @@
 //! Newtonian fluid: constant viscosity, no polymer stress, no conformation tensor.
 
 use super::Rheology;
-use crate::Mat2;
+use crate::dim::{Const, Dim, Tensor};
 
 #[derive(Debug, Clone)]
 pub struct Newtonian {
@@ -18,7 +18,7 @@ impl Newtonian {
 impl Rheology for Newtonian {
     inelastic_common!();
     #[inline]
-    fn solvent_viscosity(&self, _kappa: &Mat2) -> f64 {
+    fn solvent_viscosity<const N: usize>(&self, _kappa: &Tensor<N>) -> f64 {
         self.viscosity
     }
     fn max_viscosity(&self) -> f64 {

@@ -5,7 +5,7 @@
 
 use super::logconf::quasi_analytic_relaxation;
 use super::{Polymer, Rheology};
-use crate::Mat2;
+use crate::dim::{Const, Dim, Tensor};
 
 #[derive(Debug, Clone)]
 pub struct OldroydB {
@@ -24,16 +24,24 @@ impl OldroydB {
 impl Rheology for OldroydB {
     polymer_common!();
     #[inline]
-    fn strain(&self, a: &Mat2) -> Mat2 {
-        a - Mat2::identity()
+    fn strain<const N: usize>(&self, a: &Tensor<N>) -> Tensor<N> {
+        a - Tensor::<N>::identity()
     }
     #[inline]
-    fn relax(&self, a: &Mat2) -> Mat2 {
-        a - Mat2::identity()
+    fn relax<const N: usize>(&self, a: &Tensor<N>) -> Tensor<N> {
+        a - Tensor::<N>::identity()
     }
     /// Eq. (32) with alpha_R = beta_R = 1: the exact solution of the relaxation sub-problem.
     #[inline]
-    fn relaxation_step(&self, a: &Mat2, _a_coef: &Mat2, dt: f64) -> Mat2 {
+    fn relaxation_step<const N: usize>(
+        &self,
+        a: &Tensor<N>,
+        _a_coef: &Tensor<N>,
+        dt: f64,
+    ) -> Tensor<N>
+    where
+        Const<N>: Dim,
+    {
         quasi_analytic_relaxation(a, 1.0, 1.0, dt / self.p.lambda)
     }
 }

@@ -2,7 +2,7 @@
 //! f_R = [1 + eps tr(A - I)](A - I), with `ptt_epsilon` = eps. eps = 0 is Oldroyd-B.
 
 use super::{Polymer, Rheology};
-use crate::Mat2;
+use crate::dim::{Const, Dim, Tensor};
 
 #[derive(Debug, Clone)]
 pub struct PttLinear {
@@ -22,8 +22,8 @@ impl PttLinear {
 
     /// Relaxation factor 1 + eps tr(A - I).
     #[inline]
-    pub fn factor(&self, a: &Mat2) -> f64 {
-        1.0 + self.eps * (a.trace() - 2.0)
+    pub fn factor<const N: usize>(&self, a: &Tensor<N>) -> f64 {
+        1.0 + self.eps * (a.trace() - N as f64)
     }
 }
 

@@ -48,7 +48,8 @@ fn m2(m: &Mat2) -> [f64; 4] {
     [m[(0, 0)], m[(1, 0)], m[(0, 1)], m[(1, 1)]]
 }
 
-/// x_a - x_b at the nearest image, as [`crate::neighbors::Domain::delta`] computes it.
+/// x_a - x_b at the nearest image along x, as [`crate::neighbors::Domain::delta`] computes it for
+/// a domain periodic along x (pass 1 refuses one periodic along another axis).
 #[inline(always)]
 fn delta<const PERIODIC: bool>(ax: f64, ay: f64, b: &Rec, l: f64) -> (f64, f64) {
     let mut dx = ax - b.x;
@@ -250,6 +251,11 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
     /// Pass 1 (a gather): velocity gradient (Fang eq. 23), continuity (eq. 26), stresses, and
     /// the kernel values of every pair inside the support, cached for pass 2.
     pub(super) fn pass1(&mut self, fl: &Fluid) {
+        // The records' pair vectors (`delta`) wrap along x only.
+        assert!(
+            self.p.domain.period_y.is_none() && self.p.domain.period_z.is_none(),
+            "the weakly compressible passes take domains periodic along x only"
+        );
         match (self.p.domain.period_x.is_some(), self.art.needs_hessian()) {
             (false, false) => self.pass1_impl::<false, false>(fl),
             (false, true) => self.pass1_impl::<false, true>(fl),
