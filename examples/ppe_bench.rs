@@ -15,9 +15,9 @@ use std::io::Write;
 use std::time::Instant;
 use viscosph::kernel::{Kernel, QuinticSpline};
 use viscosph::neighbors::Domain;
-use viscosph::operators::fixtures::{channel, disc, splitmix, ParticleSet};
 use viscosph::scheme::ppe::*;
 use viscosph::Vec2;
+use viscosph_reference::fixtures::{channel, disc, splitmix, ParticleSet};
 
 struct Case {
     name: String,

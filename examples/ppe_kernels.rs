@@ -19,8 +19,8 @@ use std::hint::black_box;
 use std::time::Instant;
 use viscosph::kernel::{Kernel, QuinticSpline};
 use viscosph::neighbors::Domain;
-use viscosph::operators::fixtures::disc;
 use viscosph::scheme::ppe::*;
+use viscosph_reference::fixtures::disc;
 
 /// The ILU(0) factorisation as it was before issue 16 (a branch per update).
 fn baseline_ilu0(a: &CsrMatrix) -> Vec<f64> {

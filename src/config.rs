@@ -984,7 +984,7 @@ fn choices_text(items: &[(&str, &str)]) -> String {
 /// beta = 0.2, lambda = 0.05 s (Wi = lambda U0 / D = 5/3), at 6 particles across (King & Lind:
 /// 20), about a minute to t* = 8 (0.97 s). Under WCSPH, which buckles from 12 D, reproduces
 /// both of King & Lind's arrival trends and reaches the plate within -2 to +8 % of the
-/// slender-sheet model ([`crate::analytic::falling_sheet`]). King & Lind's ISPH buckles too
+/// slender-sheet model (`reference/src/analytic/falling_sheet.rs`). King & Lind's ISPH buckles too
 /// (`isph_free_surface = auto`), but at this resolution its column falls 11-14 % early (its
 /// implicit viscous step's splitting error), thins to two particles and tears, and with
 /// shorter steps its Wi = 5/3 heap breaks down (docs/methods.md, "Why WCSPH and not King &

@@ -7,7 +7,6 @@
 //! Papers are cited by authors, year and equation number (e.g. "Fang 2006 eq. (38)"); the full
 //! citations are in `docs/references.md`.
 
-pub mod analytic;
 pub mod boundary;
 pub mod choice;
 pub mod config;
@@ -25,6 +24,11 @@ pub mod scene;
 pub mod scheme;
 pub mod simulation;
 pub mod state;
+
+// The unit tests compile the reference crate's fixtures (`operators::fixtures`), written against
+// `viscosph::` paths; this names the crate itself so those paths resolve here too.
+#[cfg(test)]
+extern crate self as viscosph;
 
 /// 2D vector: [`dim::Vector`] in two dimensions.
 pub type Vec2 = dim::Vector<2>;

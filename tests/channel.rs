@@ -110,7 +110,7 @@ fn fene_cr_channel_settles_on_the_oldroyd_b_flow() {
     // (Re = 5, beta = 0.1): every Waters & King mode decays by exp(-11) by t = 0.2 s. At the
     // wall shear rate 4 U/H Oldroyd-B's tr A = 2 + 2 (4 Wi)^2 = 10, close to L^2 = 12, so
     // FENE-CR's f(tr A) is far from 1 there.
-    use viscosph::analytic::SteadyChannel;
+    use viscosph_reference::analytic::SteadyChannel;
     let steady = |rheology: &str| {
         let mut c = channel("wcsph", rheology, 20);
         c.set("relaxation_time", r(0.01)).unwrap();
@@ -168,7 +168,7 @@ fn oldroyd_b_start_up_follows_waters_and_king_under_wcsph() {
     // Fang's artificial stress is lowered to epsilon = 0.1: its rotated principal-stress term has
     // a shear component that slows the flow (measured: steady centre line 1.13 U at the default
     // 0.5; without it the wall layers become unstable after 11 H/U).
-    use viscosph::analytic::waters_king::WatersKing;
+    use viscosph_reference::analytic::waters_king::WatersKing;
     let mut c = channel("wcsph", "oldroyd_b", 20);
     c.set("relaxation_time", r(0.02)).unwrap();
     c.set("viscosity_ratio", r(0.1)).unwrap();
@@ -271,7 +271,7 @@ fn oldroyd_b_start_up_follows_waters_and_king_under_isph() {
     // Re = Wi = 1, beta = 0.1, 30 across (King & Lind 2021 Fig. 3): the centre line overshoots
     // to 2.8454 U at t = 0.528, undershoots to 0.3611 U at t = 1.583 and rings down to U.
     // The horizon is 1.8 here (past the minimum); t = 15 is in `viscosph bench channel`.
-    use viscosph::analytic::waters_king::WatersKing;
+    use viscosph_reference::analytic::waters_king::WatersKing;
     let wk = WatersKing::from_config(&kl_isph("eulerian", "oldroyd_b", 30, 1.0), 1.0, 8.0).unwrap();
     let ext = wk.centreline_extrema(2.0);
     let (peak, low) = (ext[0].velocity, ext[1].velocity);
@@ -328,7 +328,7 @@ fn periodic_isph_channel_is_bitwise_identical_on_one_and_two_threads() {
 /// 30 across).
 #[test]
 fn isph_channel_start_up_is_accurate_in_time_at_the_default_step() {
-    use viscosph::analytic::waters_king::WatersKing;
+    use viscosph_reference::analytic::waters_king::WatersKing;
     let run = |factor: f64| -> Vec<(f64, f64)> {
         let mut c = kl_isph("eulerian", "oldroyd_b", 15, 5.0);
         c.set("time_step_factor", r(factor)).unwrap();
@@ -368,7 +368,7 @@ fn isph_channel_start_up_is_accurate_in_time_at_the_default_step() {
 /// the largest deviation from Waters & King as a fraction of max(U, |u_exact|), and the
 /// smallest det A.
 fn track_waters_king(frame: &str, wi: f64, t_end: f64) -> (f64, f64, f64) {
-    use viscosph::analytic::waters_king::WatersKing;
+    use viscosph_reference::analytic::waters_king::WatersKing;
     let c = kl_isph(frame, "oldroyd_b", 15, wi);
     let wk = WatersKing::from_config(&c, 1.0, 8.0).unwrap();
     let mut sim = Simulation::new(c).unwrap();

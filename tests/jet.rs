@@ -5,11 +5,11 @@
 mod common;
 
 use common::{i, r, s, series_bits};
-use viscosph::analytic::falling_sheet;
 use viscosph::config::{SceneConfig, Value};
 use viscosph::scene::jet::{buckling, Nozzle};
 use viscosph::simulation::Simulation;
 use viscosph::Vec2;
+use viscosph_reference::analytic::falling_sheet;
 
 const D: f64 = 0.006;
 const U0: f64 = 0.2;

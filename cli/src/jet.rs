@@ -1,12 +1,12 @@
 //! What `viscosph run` says about a jet: when it reached the plate and how it buckled, from the
 //! record of `jet_deflection` ([`viscosph::scene::jet::buckling`]), and when the slender-sheet
-//! model ([`viscosph::analytic::falling_sheet`]) says a jet of that fluid reaches it.
+//! model ([`viscosph_reference::analytic::falling_sheet`]) says a jet of that fluid reaches it.
 
-use viscosph::analytic::falling_sheet;
 use viscosph::config::Scene;
 use viscosph::diagnostics::Outputs;
 use viscosph::scene::jet::{buckling, ONSET_FRACTION};
 use viscosph::SceneConfig;
+use viscosph_reference::analytic::falling_sheet;
 
 /// Lines describing the buckling of a jet run (None for other scenes).
 pub fn summary(cfg: &SceneConfig, series: &[(f64, Outputs)]) -> Option<String> {

@@ -3,7 +3,7 @@
 
 use viscosph::config::{ConformationMethod, RheologyKind};
 use viscosph::simulation::Simulation;
-use viscosph_cli::bench::rheology_cases;
+use viscosph_cli::bench::rheologies::rheology_cases;
 
 fn run_to_t8(mut c: viscosph::SceneConfig) -> Vec<viscosph::Outputs> {
     c.particles_per_diameter = 16;

@@ -10,10 +10,16 @@
 
 pub mod artificial;
 pub mod correction;
-pub mod fixtures;
 pub mod kinematics;
 pub mod pairs;
 pub mod shifting;
 pub mod stress;
 pub mod sums;
 pub mod surface;
+
+/// The particle sets of the unit tests, from the reference crate (which the examples use): its
+/// source compiled into the test build here, so that the sets' neighbour lists are this crate's
+/// types (a dev-dependency on the reference crate would link a second copy of the library).
+#[cfg(test)]
+#[path = "../../reference/src/fixtures.rs"]
+pub(crate) mod fixtures;

@@ -8,16 +8,16 @@
 //! [`viscosph::scene::jet::DEFAULTS`]); the cases that carry King &
 //! Lind's trends (the Wi sweep, FENE-P against FENE-CR at L^2 = 10) also under WCSPH, side by
 //! side. Each run is tabulated by the time the slender-sheet model of its fluid reaches the
-//! plate ([`viscosph::analytic::falling_sheet`], the reference for the arrival), the time the
-//! jet does, and its buckling onset, frequency and amplitude
+//! plate ([`viscosph_reference::analytic::falling_sheet`], the reference for the arrival), the
+//! time the jet does, and its buckling onset, frequency and amplitude
 //! ([`viscosph::scene::jet::buckling`]).
 
 use crate::run::{run, RunOptions};
 use std::fmt::Write as _;
 use std::path::Path;
-use viscosph::analytic::falling_sheet;
 use viscosph::config::{Scene, SceneConfig, Value};
 use viscosph::scene::jet::buckling;
+use viscosph_reference::analytic::falling_sheet;
 
 const D: f64 = 0.006;
 const U0: f64 = 0.2;
@@ -154,7 +154,7 @@ pub fn bench_jet(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::
     let mut md = format!(
         "King & Lind's jet, {ppd} particles across, to t = {t_end} s unless stated, outputs every \
          {} ms (sheet model: when the slender-sheet model of the same fluid has fallen the nozzle height, \
-         viscosph::analytic::falling_sheet; contact: first output with a wall force; impact: first output with a heap; \
+         viscosph_reference::analytic::falling_sheet; contact: first output with a wall force; impact: first output with a heap; \
          buckling onset: |jet_deflection| > 0.1 D; amplitude: half the range of jet_deflection \
          over the second half of the record after impact).\n\n\
          | case | sheet model [s] | contact [s] | impact [s] | onset [s] | frequency [Hz] | amplitude / D | max tr(A) | steps | wall time [s] | breakdown |\n\

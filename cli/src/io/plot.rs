@@ -12,6 +12,27 @@ const AXIS_DESC: u32 = 21;
 const TICKS: u32 = 17;
 const FONT: &str = "sans-serif";
 
+/// The one font of every PNG, DejaVu Sans 2.37 (Bitstream Vera licence, which allows
+/// redistribution with the notice: `cli/assets/fonts/LICENSE-DejaVu.txt`), compiled into the
+/// binary and drawn by plotters' `ab_glyph` rasteriser, so text needs no system font and the
+/// binary no fontconfig or freetype: `viscosph run` draws its PNGs on a bare server.
+static DEJAVU_SANS: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
+
+/// A PNG of `size` pixels at `path`, the embedded font registered as [`FONT`] first.
+fn png_area(
+    path: &Path,
+    size: (u32, u32),
+) -> Result<DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>, Box<dyn std::error::Error>> {
+    static REGISTERED: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    let registered = *REGISTERED.get_or_init(|| {
+        plotters::style::register_font(FONT, FontStyle::Normal, DEJAVU_SANS).is_ok()
+    });
+    if !registered {
+        return Err("the embedded font DejaVuSans.ttf does not parse".into());
+    }
+    Ok(BitMapBackend::new(path, size).into_drawing_area())
+}
+
 type PlotResult = Result<(), Box<dyn std::error::Error>>;
 
 /// A named line. A series with an empty label is a reference curve (an exact solution drawn
@@ -230,7 +251,7 @@ pub fn panel_grid(path: &Path, panels: &[Panel], cols: usize, cell: (u32, u32)) 
 
 /// Panels side by side (in a grid of `cols` columns) in one PNG.
 pub fn line_panels(path: &Path, panels: &[Panel], cols: usize, size: (u32, u32)) -> PlotResult {
-    let root = BitMapBackend::new(path, size).into_drawing_area();
+    let root = png_area(path, size)?;
     root.fill(&WHITE)?;
     let rows = panels.len().div_ceil(cols);
     let areas = root.split_evenly((rows, cols));
@@ -508,7 +529,7 @@ pub fn particle_snapshots(
     cols: usize,
     size: (u32, u32),
 ) -> PlotResult {
-    let root = BitMapBackend::new(path, size).into_drawing_area();
+    let root = png_area(path, size)?;
     root.fill(&WHITE)?;
     let (title_area, rest) = root.split_vertically(50);
     let (body, bar_area) = rest.split_horizontally(size.0.saturating_sub(190));
@@ -661,7 +682,7 @@ pub fn status_grid(
         (260 + 110 * x_labels.len()).max(60 + 13 * title.len()) as u32,
         (150 + 50 * y_labels.len()) as u32,
     );
-    let root = BitMapBackend::new(path, (w, h)).into_drawing_area();
+    let root = png_area(path, (w, h))?;
     root.fill(&WHITE)?;
     let nx = x_labels.len() as f64;
     let ny = y_labels.len() as f64;

@@ -67,8 +67,8 @@
 
 use super::quadrature;
 use super::{AnalyticError, Channel};
-use crate::config::{RheologyKind, SceneConfig};
 use std::f64::consts::PI;
+use viscosph::config::{RheologyKind, SceneConfig};
 
 /// A local extremum of the centre-line velocity in time.
 #[derive(Debug, Clone, Copy, PartialEq)]

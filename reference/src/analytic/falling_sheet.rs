@@ -18,7 +18,7 @@
 //! i.e. the tension T = w (4 eta_s e + tau_p,xx - tau_p,yy): Trouton's planar 4 eta_s for the
 //! solvent, the polymer's normal-stress difference from its conformation tensor, which each
 //! material element carries through the planar extension kappa = diag(e, -e) by the crate's
-//! own constitutive models ([`crate::rheology`], every model of King & Lind Table I and Cross,
+//! own constitutive models ([`viscosph::rheology`], every model of King & Lind Table I and Cross,
 //! whose viscosity follows the extension rate through `solvent_viscosity`). The leading end is
 //! free (T = 0); fluid leaves the exit at U0 with the model's rest conformation.
 //!
@@ -35,9 +35,9 @@
 //! plate until it touches it. The SPH "contact" (first wall force: the head within a kernel
 //! support of the wall particles) comes a little (about 2 dx / v) before the model's arrival.
 
-use crate::config::SceneConfig;
-use crate::rheology::{advance, AnyRheology, ConformationMethod, Rheology};
-use crate::Mat2;
+use viscosph::config::SceneConfig;
+use viscosph::rheology::{advance, AnyRheology, ConformationMethod, Rheology};
+use viscosph::Mat2;
 
 /// Elements per jet width that `viscosph run` and `viscosph bench jet` use: within 0.4 % of
 /// converged for King & Lind's jet, about 0.1 s to compute.
@@ -61,7 +61,7 @@ pub struct SheetArrival {
 /// speed, or a sheet held up) or its state stopped being finite.
 pub fn arrival(cfg: &SceneConfig, per_width: usize, t_max: f64) -> Option<SheetArrival> {
     let model = AnyRheology::from_config(cfg).ok()?;
-    crate::dispatch_rheology!(&model, m => arrival_with(m, cfg, per_width, t_max))
+    viscosph::dispatch_rheology!(&model, m => arrival_with(m, cfg, per_width, t_max))
 }
 
 fn arrival_with<R: Rheology>(
@@ -151,7 +151,7 @@ fn arrival_with<R: Rheology>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::config::{RheologyKind, Scene};
+    use viscosph::config::{RheologyKind, Scene};
 
     fn king_lind(rheology: RheologyKind, wi: f64) -> SceneConfig {
         SceneConfig {

@@ -2,9 +2,13 @@
 //! (`examples/ppe_bench.rs`): a lattice disc with an optional deterministic jitter, and a channel
 //! periodic in x between two straight walls, its periodic images and wall mirrors given as ghost
 //! points of an open domain (so the lists need no periodic search).
+//!
+//! Written against `viscosph::` paths only: the library's unit tests compile this same file as
+//! their `operators::fixtures` (where `viscosph` names the library itself), the examples use it
+//! from this crate.
 
-use crate::neighbors::{CellGrid, NeighborList};
-use crate::Vec2;
+use viscosph::neighbors::{CellGrid, Domain, NeighborList};
+use viscosph::Vec2;
 
 /// Fluid particles `x[..n_fluid]`, then ghost points, each with its fluid parent.
 #[derive(Debug, Clone)]
@@ -22,19 +26,14 @@ pub struct ParticleSet {
 impl ParticleSet {
     /// Neighbour lists of the fluid particles among all points within `radius`.
     pub fn neighbours(&self, radius: f64) -> NeighborList {
-        let grid = CellGrid::build(&self.x, radius, &crate::neighbors::Domain::OPEN);
+        let grid = CellGrid::build(&self.x, radius, &Domain::OPEN);
         NeighborList::build(
             &grid,
             &self.x,
             &self.x[..self.n_fluid],
             radius,
-            &crate::neighbors::Domain::OPEN,
+            &Domain::OPEN,
         )
-    }
-
-    /// Ghost signs for a value that is mirrored (+1 everywhere: pressure, concentration).
-    pub fn signs_even(&self) -> Vec<f64> {
-        vec![1.0; self.parent.len()]
     }
 
     /// Ghost signs for a no-slip velocity (-1 across a wall, +1 for a periodic image).

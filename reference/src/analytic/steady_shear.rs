@@ -58,7 +58,7 @@
 
 use super::quadrature;
 use super::{AnalyticError, Channel};
-use crate::config::{RheologyKind, SceneConfig};
+use viscosph::config::{RheologyKind, SceneConfig};
 
 /// A constitutive model with its own parameter (King & Lind 2021 Table I; names as in
 /// `config.rs`: `fene_L2`, `ptt_epsilon`, `giesekus_alpha`). UCM is [`SteadyModel::OldroydB`]
@@ -466,10 +466,10 @@ fn bisect(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
 mod tests {
     use super::*;
     use crate::analytic::WatersKing;
-    use crate::rheology::{
+    use viscosph::rheology::{
         conformation_rate, FeneCr, FeneP, Giesekus, OldroydB, PttExponential, PttLinear, Rheology,
     };
-    use crate::Mat2;
+    use viscosph::Mat2;
 
     /// King & Lind section IV.A channel: Re = Wi = 1 (H = U = rho = 1, g = 8, eta0 = 1,
     /// lambda = 1).
