@@ -703,7 +703,7 @@ impl Instance {
                                 "'{}' (valueReference {vr}) is a parameter with variability \"fixed\": \
                                  after fmi2ExitInitializationMode only inputs ({}) can be set; call fmi2Reset to change it",
                                 p.name,
-                                crate::config::INPUT_NAMES.join(", ")
+                                crate::config::input_names().collect::<Vec<_>>().join(", ")
                             ))
                         }
                         Var::Param(p) if accepts(&p.kind) => cfg
@@ -1101,7 +1101,10 @@ mod tests {
             msg.contains("drop_diameter") && msg.contains("-0.01") && msg.contains("(0, 10]"),
             "{msg}"
         );
-        assert_eq!(i.config().drop_height, SceneConfig::default().drop_height);
+        assert_eq!(
+            i.config().initial_drop_height,
+            SceneConfig::default().initial_drop_height
+        );
         i.reset();
         assert_eq!(
             i.set_real(&[vr("plate_inclination")], &[90.0]),

@@ -69,7 +69,7 @@ impl Scene for Channel {
     fn effective_config(&self, cfg: &SceneConfig) -> SceneConfig {
         let mut e = cfg.clone();
         e.drop_diameter = cfg.channel_width;
-        e.drop_height = cfg.channel_width;
+        e.initial_drop_height = cfg.channel_width;
         e.gravity = 0.0;
         e.impact_velocity = 0.0;
         e.plate_inclination = 0.0;

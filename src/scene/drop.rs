@@ -16,7 +16,7 @@ use crate::{Mat2, Vec2};
 pub fn build(cfg: &SceneConfig, rest: Option<Mat2>) -> (Fluid, Plate) {
     let dx = cfg.dx();
     let plate = Plate::new(cfg.plate_inclination, dx);
-    let centre = Vec2::new(0.0, cfg.drop_height);
+    let centre = Vec2::new(0.0, cfg.initial_drop_height);
     let (sc, dc) = (plate.s(&centre), plate.d(&centre));
     let r = 0.5 * cfg.drop_diameter;
     let n = cfg.particles_per_diameter;
@@ -51,12 +51,12 @@ impl Scene for Drop {
 
     fn validate(&self, cfg: &SceneConfig) -> Result<(), ConfigError> {
         let theta = cfg.plate_inclination.to_radians();
-        let normal_gap = cfg.drop_height * theta.cos() - 0.5 * cfg.drop_diameter;
+        let normal_gap = cfg.initial_drop_height * theta.cos() - 0.5 * cfg.drop_diameter;
         if normal_gap < cfg.dx() {
             return Err(ConfigError::Inconsistent(format!(
                 "initial_drop_height = {} m puts the drop (diameter {} m) within one particle spacing of \
                  the plate inclined at {} deg: its centre must be at least {:.6} m above the impact point",
-                cfg.drop_height,
+                cfg.initial_drop_height,
                 cfg.drop_diameter,
                 cfg.plate_inclination,
                 (0.5 * cfg.drop_diameter + cfg.dx()) / theta.cos()
@@ -92,7 +92,7 @@ mod tests {
     #[test]
     fn drop_inside_plate_is_refused() {
         let c = SceneConfig {
-            drop_height: 0.01,
+            initial_drop_height: 0.01,
             ..Default::default()
         };
         let e = Drop.validate(&c).unwrap_err().to_string();

@@ -53,7 +53,7 @@ pub const VELOCITY_SCALE: f64 = A0 * RADIUS;
 pub fn effective_config(cfg: &SceneConfig) -> SceneConfig {
     let mut e = cfg.clone();
     e.drop_diameter = 2.0 * RADIUS;
-    e.drop_height = 2.0 * RADIUS;
+    e.initial_drop_height = 2.0 * RADIUS;
     e.density = DENSITY;
     e.viscosity = VISCOSITY;
     e.rheology = RheologyKind::Newtonian;

@@ -225,7 +225,7 @@ impl Scene for Jet {
     fn effective_config(&self, cfg: &SceneConfig) -> SceneConfig {
         let mut e = cfg.clone();
         e.drop_diameter = cfg.jet_width;
-        e.drop_height = cfg.nozzle_height;
+        e.initial_drop_height = cfg.nozzle_height;
         e.impact_velocity = cfg.jet_velocity;
         e.fracture_void_fraction = 0.0;
         e

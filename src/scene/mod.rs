@@ -50,7 +50,7 @@ pub trait Scene: Send + Sync {
 
     /// Largest distance from the origin a particle may reach before the run stops [m].
     fn domain_radius(&self, cfg: &SceneConfig) -> f64 {
-        1000.0 * cfg.drop_diameter + 10.0 * cfg.drop_height
+        1000.0 * cfg.drop_diameter + 10.0 * cfg.initial_drop_height
     }
 
     /// Completes the initial state made of [`Scene::build`]'s fluid and walls (the jet's inflow

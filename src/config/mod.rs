@@ -9,89 +9,18 @@
 //! `modelDescription/modelDescription.xml` is checked against this table by a test, so the FMU's
 //! interface and the solver cannot drift apart.
 
+mod macros;
+mod spec;
+
+pub use spec::{
+    enumeration, integer, range_text, real, real_pos, Checked, ConfigError, Kind, ParamGroup,
+    ParamSpec, ParamValue, Value,
+};
+
 use crate::rheology::{
     AnyRheology, Cross, FeneCr, FeneP, Giesekus, Newtonian, OldroydB, PttExponential, PttLinear,
 };
 pub use crate::rheology::{ConformationMethod, CONFORMATION_METHODS};
-use serde::{Deserialize, Serialize};
-use std::fmt;
-use thiserror::Error;
-
-/// What went wrong with a parameter. The message names the variable, the value and what is allowed.
-#[derive(Debug, Clone, PartialEq, Error)]
-pub enum ConfigError {
-    #[error("unknown parameter '{0}'")]
-    Unknown(String),
-    #[error("parameter '{name}' = {value} is outside the allowed range {range}")]
-    OutOfRange {
-        name: String,
-        value: String,
-        range: String,
-    },
-    #[error("parameter '{name}' has a value of the wrong type: {detail}")]
-    WrongType { name: String, detail: String },
-    #[error("parameter '{name}': '{value}' is not one of {allowed}")]
-    BadChoice {
-        name: String,
-        value: String,
-        allowed: String,
-    },
-    #[error("{0}")]
-    Inconsistent(String),
-    #[error("scene file: {0}")]
-    Parse(String),
-}
-
-/// The type of one parameter, with its default and limits.
-#[derive(Debug, Clone, Copy)]
-pub enum Kind {
-    /// A real number in `[min, max]`; `min_open`/`max_open` make an end exclusive.
-    Real {
-        default: f64,
-        min: f64,
-        max: f64,
-        min_open: bool,
-        max_open: bool,
-    },
-    /// An integer in `[min, max]`.
-    Integer { default: i64, min: i64, max: i64 },
-    /// One of `items`, numbered 1.. in the FMU (FMI 2.0 Enumeration).
-    Enumeration {
-        type_name: &'static str,
-        items: &'static [(&'static str, &'static str)],
-        default: &'static str,
-    },
-}
-
-/// One row of the parameter table.
-#[derive(Debug, Clone, Copy)]
-pub struct ParamSpec {
-    pub name: &'static str,
-    pub value_reference: u32,
-    pub kind: Kind,
-    /// SI unit name as used in the FMU's unitDefinitions ("" for dimensionless).
-    pub unit: &'static str,
-    pub description: &'static str,
-}
-
-const fn real(default: f64, min: f64, max: f64) -> Kind {
-    Kind::Real {
-        default,
-        min,
-        max,
-        min_open: false,
-        max_open: false,
-    }
-}
-const fn real_pos(default: f64, max: f64) -> Kind {
-    Kind::Real {
-        default,
-        min: 0.0,
-        max,
-        min_open: true,
-        max_open: false,
-    }
-}
 
 pub const SCENES: &[(&str, &str)] = &[
     ("drop", "2D drop falling onto a straight rigid plate"),
@@ -190,58 +119,9 @@ pub const EQUATIONS_OF_STATE: &[(&str, &str)] = &[
     ),
 ];
 
-/// The parameter table: the single source of names, value references, defaults and ranges.
-/// Defaults are Fang et al. 2006's Oldroyd-B drop (D = 2 cm, V = 1 m/s, nu = 0.004 m2/s,
-/// lambda1 = 0.02 s, lambda2 = 0.002 s, so beta = lambda2/lambda1 = 0.1), except the sound speed,
-/// which is automatic ([`SceneConfig::resolved_sound_speed`]: 12.60 m/s for this drop, Fang's
-/// 12.5 m/s within 1 %).
-pub const PARAMS: &[ParamSpec] = &[
-    ParamSpec { name: "scene", value_reference: 1, kind: Kind::Enumeration { type_name: "Scene", items: SCENES, default: "drop" }, unit: "", description: "Which flow to simulate" },
-    ParamSpec { name: "scheme", value_reference: 2, kind: Kind::Enumeration { type_name: "Scheme", items: SCHEMES, default: "wcsph" }, unit: "", description: "SPH scheme" },
-    ParamSpec { name: "rheology", value_reference: 3, kind: Kind::Enumeration { type_name: "Rheology", items: RHEOLOGIES, default: "oldroyd_b" }, unit: "", description: "Constitutive model of the fluid" },
-    ParamSpec { name: "plate_inclination", value_reference: 4, kind: Kind::Real { default: 0.0, min: 0.0, max: 90.0, min_open: false, max_open: true }, unit: "deg", description: "Angle of the plate to the horizontal; the plate runs downhill towards +x" },
-    ParamSpec { name: "impact_velocity", value_reference: 5, kind: real(1.0, 0.0, 100.0), unit: "m/s", description: "Initial speed of the drop, vertically down" },
-    ParamSpec { name: "drop_diameter", value_reference: 6, kind: real_pos(0.02, 10.0), unit: "m", description: "Diameter of the initial (circular) drop" },
-    ParamSpec { name: "initial_drop_height", value_reference: 7, kind: real_pos(0.04, 100.0), unit: "m", description: "Height of the drop centre above the impact point at t = 0, measured vertically (scene files may also call it drop_height)" },
-    ParamSpec { name: "density", value_reference: 8, kind: real_pos(1000.0, 1.0e5), unit: "kg/m3", description: "Reference density rho0" },
-    ParamSpec { name: "gravity", value_reference: 9, kind: real(9.81, 0.0, 1000.0), unit: "m/s2", description: "Gravitational acceleration, vertically down" },
-    ParamSpec { name: "viscosity", value_reference: 10, kind: real_pos(4.0, 1.0e6), unit: "Pa.s", description: "Total zero-shear viscosity eta0 (solvent + polymer)" },
-    ParamSpec { name: "viscosity_ratio", value_reference: 11, kind: real(0.1, 0.0, 1.0), unit: "1", description: "Solvent to total viscosity beta = eta_s/eta0 (Fang's lambda2/lambda1)" },
-    ParamSpec { name: "relaxation_time", value_reference: 12, kind: real_pos(0.02, 1.0e6), unit: "s", description: "Polymer relaxation time lambda (Fang's lambda1)" },
-    ParamSpec { name: "fene_L2", value_reference: 13, kind: Kind::Real { default: 100.0, min: 2.0, max: 1.0e12, min_open: true, max_open: false }, unit: "1", description: "FENE extensibility L^2 (> 2 in 2D)" },
-    ParamSpec { name: "ptt_epsilon", value_reference: 14, kind: real(0.25, 0.0, 10.0), unit: "1", description: "PTT extensibility parameter epsilon" },
-    ParamSpec { name: "giesekus_alpha", value_reference: 15, kind: real(0.1, 0.0, 0.5), unit: "1", description: "Giesekus mobility alpha (0 <= alpha <= 0.5)" },
-    ParamSpec { name: "cross_viscosity_inf", value_reference: 16, kind: real(0.4, 0.0, 1.0e6), unit: "Pa.s", description: "Cross model infinite-shear viscosity (Ren 2015 eq. 5)" },
-    ParamSpec { name: "cross_K", value_reference: 17, kind: real(1.0, 0.0, 1.0e6), unit: "s", description: "Cross model time constant K (Ren 2015 eq. 5)" },
-    ParamSpec { name: "cross_m", value_reference: 18, kind: real(1.0, 0.0, 10.0), unit: "1", description: "Cross model exponent m (Ren 2015 eq. 5)" },
-    ParamSpec { name: "particles_per_diameter", value_reference: 19, kind: Kind::Integer { default: 20, min: 4, max: 4000 }, unit: "", description: "Resolution: lattice spacing dx = drop_diameter / particles_per_diameter" },
-    ParamSpec { name: "sound_speed", value_reference: 20, kind: real(0.0, 0.0, 1.0e5), unit: "m/s", description: "Artificial speed of sound c in the equation of state; 0 = automatic: 10 times the largest speed the scene can reach (impact speed plus free fall), for about 1 % density variation. Ignored under isph (incompressible: no equation of state)" },
-    ParamSpec { name: "artificial_viscosity_alpha", value_reference: 21, kind: real(1.0, 0.0, 10.0), unit: "1", description: "Monaghan artificial viscosity alpha (Fang 2006 eq. 31). Ignored under isph" },
-    ParamSpec { name: "artificial_viscosity_beta", value_reference: 22, kind: real(2.0, 0.0, 10.0), unit: "1", description: "Monaghan artificial viscosity beta (Fang 2006 eq. 31). Ignored under isph" },
-    ParamSpec { name: "artificial_stress_epsilon", value_reference: 23, kind: real(0.5, 0.0, 1.0), unit: "1", description: "Artificial stress epsilon against the tensile instability (Fang 2006 eq. 42); 0 switches it off. Ignored under isph (no tensile instability to counter)" },
-    ParamSpec { name: "time_step_factor", value_reference: 24, kind: Kind::Real { default: 0.3, min: 0.0, max: 1.0, min_open: true, max_open: false }, unit: "1", description: "Safety factor applied to the time-step limits (Fang 2006 eqs. 51-53); under isph the coefficient of King & Lind eq. (28) is 2/3 of it (the default 0.3 gives their 0.2)" },
-    ParamSpec { name: "smoothing_ratio", value_reference: 25, kind: real(1.5, 1.0, 3.0), unit: "1", description: "Smoothing length over particle spacing h/dx. Ignored under isph, which uses King & Lind's quintic kernel with h = 1.3 dx" },
-    ParamSpec { name: "conformation_method", value_reference: 26, kind: Kind::Enumeration { type_name: "ConformationMethod", items: CONFORMATION_METHODS, default: "auto" }, unit: "", description: "How the conformation tensor is integrated; auto = direct under wcsph and pdri, log-conformation under isph" },
-    ParamSpec { name: "evss_alpha", value_reference: 27, kind: real(0.0, 0.0, 1.0), unit: "1", description: "EVSS added viscosity alpha_V / (1 - beta) scale (King & Lind eqs. 6-8); 0 = off" },
-    ParamSpec { name: "artificial_stress_kind", value_reference: 28, kind: Kind::Enumeration { type_name: "ArtificialStress", items: ARTIFICIAL_STRESS_KINDS, default: "fang" }, unit: "", description: "Which artificial stress counters the tensile instability" },
-    ParamSpec { name: "artificial_stress_b", value_reference: 29, kind: real(0.8, 0.0, 10.0), unit: "1", description: "Coefficient b of Ren's artificial stress (Ren 2015 eq. 20b). Ignored under isph" },
-    ParamSpec { name: "density_reinit_interval", value_reference: 30, kind: Kind::Integer { default: 20, min: 0, max: 1_000_000 }, unit: "", description: "PDRI: steps between density reinitialisations (0 = never). Ignored under isph" },
-    ParamSpec { name: "equation_of_state", value_reference: 31, kind: Kind::Enumeration { type_name: "EquationOfState", items: EQUATIONS_OF_STATE, default: "linear" }, unit: "", description: "Equation of state relating pressure to density. Ignored under isph" },
-    ParamSpec { name: "fracture_void_fraction", value_reference: 32, kind: real(0.02, 0.0, 1.0), unit: "1", description: "Health: fraction of the fluid's area torn open into holes beyond which the run stops with a tensile-instability fracture (0 = never check)" },
-    ParamSpec { name: "threads", value_reference: 40, kind: Kind::Integer { default: 0, min: 0, max: 1024 }, unit: "", description: "Worker threads of this simulation's own thread pool; 0 = the RAYON_NUM_THREADS environment variable, else one per core. Results do not depend on it" },
-    ParamSpec { name: "channel_width", value_reference: 41, kind: real_pos(0.02, 100.0), unit: "m", description: "Channel scene: distance H between the two walls; particles_per_diameter counts particles across it" },
-    ParamSpec { name: "channel_length", value_reference: 42, kind: real(0.0, 0.0, 1000.0), unit: "m", description: "Channel scene: period along the flow (rounded to whole particle spacings); 0 = channel_width" },
-    ParamSpec { name: "body_force", value_reference: 43, kind: real(80.0, 0.0, 1.0e6), unit: "m/s2", description: "Channel scene: body force per unit mass along the channel, switched on at t = 0 (gravity is off in the channel)" },
-    ParamSpec { name: "plate_velocity", value_reference: 60, kind: real(0.0, -1000.0, 1000.0), unit: "m/s", description: "Input: velocity of the plate along its normal, positive away from the fluid; the plate moves rigidly and the walls follow. A co-simulation master may change it at every communication point; this is its start value" },
-    ParamSpec { name: "viscous_operator", value_reference: 44, kind: Kind::Enumeration { type_name: "ViscousOperator", items: VISCOUS_OPERATORS, default: "auto" }, unit: "", description: "Weakly compressible schemes: the solvent viscosity inside the stress (Fang's nested operator) or through Morris' Laplacian, which keeps shear layers at walls free of particle-scale zigzag" },
-    ParamSpec { name: "jet_width", value_reference: 45, kind: real_pos(0.006, 10.0), unit: "m", description: "Jet scene: width D of the planar jet at the nozzle exit (King & Lind 2021: 6 mm); particles_per_diameter counts particles across it" },
-    ParamSpec { name: "nozzle_height", value_reference: 46, kind: real_pos(0.072, 100.0), unit: "m", description: "Jet scene: height of the nozzle exit above the impact point, measured vertically (King & Lind 2021: 12 D)" },
-    ParamSpec { name: "jet_velocity", value_reference: 47, kind: real(0.2, 0.0, 100.0), unit: "m/s", description: "Input: jet scene: speed of the fluid leaving the nozzle, vertically down (King & Lind 2021: 0.2 m/s). A co-simulation master (a pump or valve model) may change it at every communication point; this is its start value, which also sets the automatic sound speed" },
-    ParamSpec { name: "container_width", value_reference: 48, kind: real(0.0, 0.0, 100.0), unit: "m", description: "Jet scene: distance between the container's side walls, centred on the impact point and perpendicular to the plate; 0 = no side walls" },
-    ParamSpec { name: "isph_frame", value_reference: 49, kind: Kind::Enumeration { type_name: "IsphFrame", items: ISPH_FRAMES, default: "lagrangian" }, unit: "", description: "ISPH: Lagrangian particles with shifting, or Eulerian (fixed particles; only for domains without a free surface)" },
-    ParamSpec { name: "isph_viscous_step", value_reference: 50, kind: Kind::Enumeration { type_name: "ViscousStep", items: VISCOUS_STEPS, default: "implicit" }, unit: "", description: "ISPH: solvent viscosity implicit (the time step is then set by the flow speed and the polymer) or explicit as in King & Lind eq. (24)" },
-    ParamSpec { name: "isph_free_surface", value_reference: 51, kind: Kind::Enumeration { type_name: "IsphFreeSurface", items: ISPH_FREE_SURFACES, default: "auto" }, unit: "", description: "ISPH: free-surface pressure; normal_stress = King & Lind eq. (35a)'s solvent normal stress with a pressure gradient consistent with it (the jet buckles), zero_pressure = p = 0 (the drop keeps its volume best); auto = normal_stress in the jet scene, zero_pressure elsewhere" },
-];
+/// The parameter table: the rows of [`SceneConfig`], the single source of names, value
+/// references, defaults and ranges.
+pub const PARAMS: &[ParamSpec] = SceneConfig::ROWS;
 
 /// The rheology is built here, next to the table that names its parameters, so that the
 /// constitutive models (`crate::rheology`) depend on nothing above them.
@@ -289,12 +169,10 @@ impl AnyRheology {
 /// `drop_height` is accepted as the older name of `initial_drop_height`: the FMU needs unique
 /// variable names and `drop_height` is an output.
 pub fn param_spec(name: &str) -> Option<&'static ParamSpec> {
-    let name = if name == "drop_height" {
-        "initial_drop_height"
-    } else {
-        name
-    };
-    PARAMS.iter().find(|p| p.name == name)
+    PARAMS
+        .iter()
+        .find(|p| p.name == name)
+        .or_else(|| PARAMS.iter().find(|p| p.is_called(name)))
 }
 
 /// The parameter with a given FMU value reference.
@@ -302,19 +180,10 @@ pub fn param_by_vr(vr: u32) -> Option<&'static ParamSpec> {
     PARAMS.iter().find(|p| p.value_reference == vr)
 }
 
-/// The rows of [`PARAMS`] that are FMU *inputs* (causality "input", variability "continuous")
-/// rather than fixed parameters: a co-simulation master may set them again after
-/// initialization, at every communication point (FMI 2.0 section 2.2.7, and section 4.2.4 for
-/// Co-Simulation). Their table row gives the start value, the range and the scene-file key, so
-/// a scene file sets an input's start value by its name like any parameter. In the running
-/// simulation they live in [`crate::state::Inputs`].
-pub const INPUT_NAMES: &[&str] = &["plate_velocity", "jet_velocity"];
-
-impl ParamSpec {
-    /// Whether this row is an input (see [`INPUT_NAMES`]).
-    pub fn is_input(&self) -> bool {
-        INPUT_NAMES.contains(&self.name)
-    }
+/// The names of the rows of [`PARAMS`] that are FMU inputs ([`ParamSpec::input`]), in table
+/// order. In the running simulation they live in [`crate::state::Inputs`].
+pub fn input_names() -> impl Iterator<Item = &'static str> {
+    PARAMS.iter().filter(|p| p.input).map(|p| p.name)
 }
 
 /// Value reference of an enumeration's String twin: the enumeration's own plus this offset, so
@@ -395,76 +264,104 @@ crate::choice_enum!(
     /// How the solvent's viscous force is discretised.
     ViscousOperator, VISCOUS_OPERATORS, Auto = "auto", Nested = "nested", Laplacian = "laplacian");
 
-/// A parameter value as it arrives from a scene file or the FMU.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Value {
-    Real(f64),
-    Integer(i64),
-    Text(String),
-}
-
-impl fmt::Display for Value {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Value::Real(x) => write!(f, "{x}"),
-            Value::Integer(i) => write!(f, "{i}"),
-            Value::Text(s) => write!(f, "'{s}'"),
-        }
+crate::params! {
+    /// Everything that defines a simulation. Field names are the FMU parameter names.
+    /// Defaults are Fang et al. 2006's Oldroyd-B drop (D = 2 cm, V = 1 m/s, nu = 0.004 m2/s,
+    /// lambda1 = 0.02 s, lambda2 = 0.002 s, so beta = lambda2/lambda1 = 0.1), except the sound
+    /// speed, which is automatic ([`SceneConfig::resolved_sound_speed`]: 12.60 m/s for this drop,
+    /// Fang's 12.5 m/s within 1 %).
+    pub struct SceneConfig {
+        scene: Scene = enumeration::<Scene>("Scene", "drop"), vr 1, unit "";
+            "Which flow to simulate",
+        scheme: SchemeKind = enumeration::<SchemeKind>("Scheme", "wcsph"), vr 2, unit "";
+            "SPH scheme",
+        rheology: RheologyKind = enumeration::<RheologyKind>("Rheology", "oldroyd_b"), vr 3, unit "";
+            "Constitutive model of the fluid",
+        plate_inclination: f64 = Kind::Real { default: 0.0, min: 0.0, max: 90.0, min_open: false, max_open: true }, vr 4, unit "deg";
+            "Angle of the plate to the horizontal; the plate runs downhill towards +x",
+        impact_velocity: f64 = real(1.0, 0.0, 100.0), vr 5, unit "m/s";
+            "Initial speed of the drop, vertically down",
+        drop_diameter: f64 = real_pos(0.02, 10.0), vr 6, unit "m";
+            "Diameter of the initial (circular) drop",
+        initial_drop_height: f64 = real_pos(0.04, 100.0), vr 7, unit "m", alias "drop_height";
+            "Height of the drop centre above the impact point at t = 0, measured vertically (scene files may also call it drop_height)",
+        density: f64 = real_pos(1000.0, 1.0e5), vr 8, unit "kg/m3";
+            "Reference density rho0",
+        gravity: f64 = real(9.81, 0.0, 1000.0), vr 9, unit "m/s2";
+            "Gravitational acceleration, vertically down",
+        viscosity: f64 = real_pos(4.0, 1.0e6), vr 10, unit "Pa.s";
+            "Total zero-shear viscosity eta0 (solvent + polymer)",
+        viscosity_ratio: f64 = real(0.1, 0.0, 1.0), vr 11, unit "1";
+            "Solvent to total viscosity beta = eta_s/eta0 (Fang's lambda2/lambda1)",
+        relaxation_time: f64 = real_pos(0.02, 1.0e6), vr 12, unit "s";
+            "Polymer relaxation time lambda (Fang's lambda1)",
+        fene_L2: f64 = Kind::Real { default: 100.0, min: 2.0, max: 1.0e12, min_open: true, max_open: false }, vr 13, unit "1";
+            "FENE extensibility L^2 (> 2 in 2D)",
+        ptt_epsilon: f64 = real(0.25, 0.0, 10.0), vr 14, unit "1";
+            "PTT extensibility parameter epsilon",
+        giesekus_alpha: f64 = real(0.1, 0.0, 0.5), vr 15, unit "1";
+            "Giesekus mobility alpha (0 <= alpha <= 0.5)",
+        cross_viscosity_inf: f64 = real(0.4, 0.0, 1.0e6), vr 16, unit "Pa.s";
+            "Cross model infinite-shear viscosity (Ren 2015 eq. 5)",
+        cross_K: f64 = real(1.0, 0.0, 1.0e6), vr 17, unit "s";
+            "Cross model time constant K (Ren 2015 eq. 5)",
+        cross_m: f64 = real(1.0, 0.0, 10.0), vr 18, unit "1";
+            "Cross model exponent m (Ren 2015 eq. 5)",
+        particles_per_diameter: i64 = integer(20, 4, 4000), vr 19, unit "";
+            "Resolution: lattice spacing dx = drop_diameter / particles_per_diameter",
+        sound_speed: f64 = real(0.0, 0.0, 1.0e5), vr 20, unit "m/s";
+            "Artificial speed of sound c in the equation of state; 0 = automatic: 10 times the largest speed the scene can reach (impact speed plus free fall), for about 1 % density variation. Ignored under isph (incompressible: no equation of state)",
+        artificial_viscosity_alpha: f64 = real(1.0, 0.0, 10.0), vr 21, unit "1";
+            "Monaghan artificial viscosity alpha (Fang 2006 eq. 31). Ignored under isph",
+        artificial_viscosity_beta: f64 = real(2.0, 0.0, 10.0), vr 22, unit "1";
+            "Monaghan artificial viscosity beta (Fang 2006 eq. 31). Ignored under isph",
+        artificial_stress_epsilon: f64 = real(0.5, 0.0, 1.0), vr 23, unit "1";
+            "Artificial stress epsilon against the tensile instability (Fang 2006 eq. 42); 0 switches it off. Ignored under isph (no tensile instability to counter)",
+        time_step_factor: f64 = Kind::Real { default: 0.3, min: 0.0, max: 1.0, min_open: true, max_open: false }, vr 24, unit "1";
+            "Safety factor applied to the time-step limits (Fang 2006 eqs. 51-53); under isph the coefficient of King & Lind eq. (28) is 2/3 of it (the default 0.3 gives their 0.2)",
+        smoothing_ratio: f64 = real(1.5, 1.0, 3.0), vr 25, unit "1";
+            "Smoothing length over particle spacing h/dx. Ignored under isph, which uses King & Lind's quintic kernel with h = 1.3 dx",
+        conformation_method: ConformationMethod = enumeration::<ConformationMethod>("ConformationMethod", "auto"), vr 26, unit "";
+            "How the conformation tensor is integrated; auto = direct under wcsph and pdri, log-conformation under isph",
+        evss_alpha: f64 = real(0.0, 0.0, 1.0), vr 27, unit "1";
+            "EVSS added viscosity alpha_V / (1 - beta) scale (King & Lind eqs. 6-8); 0 = off",
+        artificial_stress_kind: ArtificialStressKind = enumeration::<ArtificialStressKind>("ArtificialStress", "fang"), vr 28, unit "";
+            "Which artificial stress counters the tensile instability",
+        artificial_stress_b: f64 = real(0.8, 0.0, 10.0), vr 29, unit "1";
+            "Coefficient b of Ren's artificial stress (Ren 2015 eq. 20b). Ignored under isph",
+        density_reinit_interval: i64 = integer(20, 0, 1_000_000), vr 30, unit "";
+            "PDRI: steps between density reinitialisations (0 = never). Ignored under isph",
+        equation_of_state: EquationOfState = enumeration::<EquationOfState>("EquationOfState", "linear"), vr 31, unit "";
+            "Equation of state relating pressure to density. Ignored under isph",
+        fracture_void_fraction: f64 = real(0.02, 0.0, 1.0), vr 32, unit "1";
+            "Health: fraction of the fluid's area torn open into holes beyond which the run stops with a tensile-instability fracture (0 = never check)",
+        threads: i64 = integer(0, 0, 1024), vr 40, unit "";
+            "Worker threads of this simulation's own thread pool; 0 = the RAYON_NUM_THREADS environment variable, else one per core. Results do not depend on it",
+        channel_width: f64 = real_pos(0.02, 100.0), vr 41, unit "m";
+            "Channel scene: distance H between the two walls; particles_per_diameter counts particles across it",
+        channel_length: f64 = real(0.0, 0.0, 1000.0), vr 42, unit "m";
+            "Channel scene: period along the flow (rounded to whole particle spacings); 0 = channel_width",
+        body_force: f64 = real(80.0, 0.0, 1.0e6), vr 43, unit "m/s2";
+            "Channel scene: body force per unit mass along the channel, switched on at t = 0 (gravity is off in the channel)",
+        plate_velocity: f64 = real(0.0, -1000.0, 1000.0), vr 60, unit "m/s", input;
+            "Input: velocity of the plate along its normal, positive away from the fluid; the plate moves rigidly and the walls follow. A co-simulation master may change it at every communication point; this is its start value",
+        viscous_operator: ViscousOperator = enumeration::<ViscousOperator>("ViscousOperator", "auto"), vr 44, unit "";
+            "Weakly compressible schemes: the solvent viscosity inside the stress (Fang's nested operator) or through Morris' Laplacian, which keeps shear layers at walls free of particle-scale zigzag",
+        jet_width: f64 = real_pos(0.006, 10.0), vr 45, unit "m";
+            "Jet scene: width D of the planar jet at the nozzle exit (King & Lind 2021: 6 mm); particles_per_diameter counts particles across it",
+        nozzle_height: f64 = real_pos(0.072, 100.0), vr 46, unit "m";
+            "Jet scene: height of the nozzle exit above the impact point, measured vertically (King & Lind 2021: 12 D)",
+        jet_velocity: f64 = real(0.2, 0.0, 100.0), vr 47, unit "m/s", input;
+            "Input: jet scene: speed of the fluid leaving the nozzle, vertically down (King & Lind 2021: 0.2 m/s). A co-simulation master (a pump or valve model) may change it at every communication point; this is its start value, which also sets the automatic sound speed",
+        container_width: f64 = real(0.0, 0.0, 100.0), vr 48, unit "m";
+            "Jet scene: distance between the container's side walls, centred on the impact point and perpendicular to the plate; 0 = no side walls",
+        isph_frame: IsphFrame = enumeration::<IsphFrame>("IsphFrame", "lagrangian"), vr 49, unit "";
+            "ISPH: Lagrangian particles with shifting, or Eulerian (fixed particles; only for domains without a free surface)",
+        isph_viscous_step: ViscousStep = enumeration::<ViscousStep>("ViscousStep", "implicit"), vr 50, unit "";
+            "ISPH: solvent viscosity implicit (the time step is then set by the flow speed and the polymer) or explicit as in King & Lind eq. (24)",
+        isph_free_surface: IsphFreeSurface = enumeration::<IsphFreeSurface>("IsphFreeSurface", "auto"), vr 51, unit "";
+            "ISPH: free-surface pressure; normal_stress = King & Lind eq. (35a)'s solvent normal stress with a pressure gradient consistent with it (the jet buckles), zero_pressure = p = 0 (the drop keeps its volume best); auto = normal_stress in the jet scene, zero_pressure elsewhere",
     }
-}
-
-/// Everything that defines a simulation. Field names are the FMU parameter names.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[allow(non_snake_case)]
-pub struct SceneConfig {
-    pub scene: Scene,
-    pub scheme: SchemeKind,
-    pub rheology: RheologyKind,
-    pub plate_inclination: f64,
-    pub impact_velocity: f64,
-    pub drop_diameter: f64,
-    /// FMU name `initial_drop_height` (`drop_height` is an output).
-    pub drop_height: f64,
-    pub density: f64,
-    pub gravity: f64,
-    pub viscosity: f64,
-    pub viscosity_ratio: f64,
-    pub relaxation_time: f64,
-    pub fene_L2: f64,
-    pub ptt_epsilon: f64,
-    pub giesekus_alpha: f64,
-    pub cross_viscosity_inf: f64,
-    pub cross_K: f64,
-    pub cross_m: f64,
-    pub particles_per_diameter: i64,
-    pub sound_speed: f64,
-    pub artificial_viscosity_alpha: f64,
-    pub artificial_viscosity_beta: f64,
-    pub artificial_stress_epsilon: f64,
-    pub time_step_factor: f64,
-    pub smoothing_ratio: f64,
-    pub conformation_method: ConformationMethod,
-    pub evss_alpha: f64,
-    pub artificial_stress_kind: ArtificialStressKind,
-    pub artificial_stress_b: f64,
-    pub density_reinit_interval: i64,
-    pub equation_of_state: EquationOfState,
-    pub fracture_void_fraction: f64,
-    /// Size of the simulation's own thread pool (0 = RAYON_NUM_THREADS or one per core).
-    pub threads: i64,
-    pub channel_width: f64,
-    pub channel_length: f64,
-    pub body_force: f64,
-    pub viscous_operator: ViscousOperator,
-    pub jet_width: f64,
-    pub nozzle_height: f64,
-    pub jet_velocity: f64,
-    pub container_width: f64,
-    /// Start value of the input `plate_velocity` (see [`INPUT_NAMES`]).
-    pub plate_velocity: f64,
-    pub isph_frame: IsphFrame,
-    pub isph_viscous_step: ViscousStep,
-    pub isph_free_surface: IsphFreeSurface,
 }
 
 /// Automatic sound speed over the largest expected flow speed: 10 for about 1 % density
@@ -473,67 +370,6 @@ pub const SOUND_SPEED_FACTOR: f64 = 10.0;
 
 /// Largest number of particles (fluid + wall) a scene may ask for: about 2 GB of state.
 pub const MAX_PARTICLES: f64 = 5.0e6;
-
-impl Default for SceneConfig {
-    fn default() -> Self {
-        let mut c = SceneConfig {
-            scene: Scene::Drop,
-            scheme: SchemeKind::Wcsph,
-            rheology: RheologyKind::OldroydB,
-            plate_inclination: 0.0,
-            impact_velocity: 0.0,
-            drop_diameter: 0.0,
-            drop_height: 0.0,
-            density: 0.0,
-            gravity: 0.0,
-            viscosity: 0.0,
-            viscosity_ratio: 0.0,
-            relaxation_time: 0.0,
-            fene_L2: 0.0,
-            ptt_epsilon: 0.0,
-            giesekus_alpha: 0.0,
-            cross_viscosity_inf: 0.0,
-            cross_K: 0.0,
-            cross_m: 0.0,
-            particles_per_diameter: 0,
-            sound_speed: 0.0,
-            artificial_viscosity_alpha: 0.0,
-            artificial_viscosity_beta: 0.0,
-            artificial_stress_epsilon: 0.0,
-            time_step_factor: 0.0,
-            smoothing_ratio: 0.0,
-            conformation_method: ConformationMethod::Direct,
-            evss_alpha: 0.0,
-            artificial_stress_kind: ArtificialStressKind::Fang,
-            artificial_stress_b: 0.0,
-            density_reinit_interval: 0,
-            equation_of_state: EquationOfState::Linear,
-            fracture_void_fraction: 0.0,
-            threads: 0,
-            channel_width: 0.0,
-            channel_length: 0.0,
-            body_force: 0.0,
-            viscous_operator: ViscousOperator::Auto,
-            jet_width: 0.0,
-            nozzle_height: 0.0,
-            jet_velocity: 0.0,
-            container_width: 0.0,
-            plate_velocity: 0.0,
-            isph_frame: IsphFrame::Lagrangian,
-            isph_viscous_step: ViscousStep::Implicit,
-            isph_free_surface: IsphFreeSurface::Auto,
-        };
-        for p in PARAMS {
-            let v = match p.kind {
-                Kind::Real { default, .. } => Value::Real(default),
-                Kind::Integer { default, .. } => Value::Integer(default),
-                Kind::Enumeration { default, .. } => Value::Text(default.to_string()),
-            };
-            c.set(p.name, v).expect("table defaults are valid");
-        }
-        c
-    }
-}
 
 impl SceneConfig {
     /// Set one parameter by its FMU name, checking type and range against [`PARAMS`].
@@ -555,136 +391,19 @@ impl SceneConfig {
             }
         }
         let spec = param_spec(name).ok_or_else(|| ConfigError::Unknown(name.to_string()))?;
-        match spec.kind {
-            Kind::Real {
-                min,
-                max,
-                min_open,
-                max_open,
-                ..
-            } => {
-                let x = match value {
-                    Value::Real(x) => x,
-                    Value::Integer(i) => i as f64,
-                    Value::Text(ref s) => {
-                        return Err(ConfigError::WrongType {
-                            name: name.into(),
-                            detail: format!("expected a real number, got '{s}'"),
-                        })
-                    }
-                };
-                let lo_ok = if min_open { x > min } else { x >= min };
-                let hi_ok = if max_open { x < max } else { x <= max };
-                if !x.is_finite() || !lo_ok || !hi_ok {
-                    return Err(ConfigError::OutOfRange {
-                        name: name.into(),
-                        value: format!("{x}"),
-                        range: range_text(&spec.kind),
-                    });
-                }
-                *self.real_field(name).expect("every Real row has a field") = x;
-            }
-            Kind::Integer { min, max, .. } => {
-                let i = match value {
-                    Value::Integer(i) => i,
-                    Value::Real(x) if x.fract() == 0.0 && x.is_finite() => x as i64,
-                    other => {
-                        return Err(ConfigError::WrongType {
-                            name: name.into(),
-                            detail: format!("expected an integer, got {other}"),
-                        })
-                    }
-                };
-                if i < min || i > max {
-                    return Err(ConfigError::OutOfRange {
-                        name: name.into(),
-                        value: format!("{i}"),
-                        range: range_text(&spec.kind),
-                    });
-                }
-                match name {
-                    "particles_per_diameter" => self.particles_per_diameter = i,
-                    "density_reinit_interval" => self.density_reinit_interval = i,
-                    "threads" => self.threads = i,
-                    _ => unreachable!("integer row without field: {name}"),
-                }
-            }
-            Kind::Enumeration { items, .. } => {
-                let text = match value {
-                    Value::Text(s) => s,
-                    Value::Integer(i) if i >= 1 && (i as usize) <= items.len() => {
-                        items[(i - 1) as usize].0.to_string()
-                    }
-                    other => {
-                        return Err(ConfigError::BadChoice {
-                            name: name.into(),
-                            value: other.to_string(),
-                            allowed: choices_text(items),
-                        })
-                    }
-                };
-                let bad = || ConfigError::BadChoice {
-                    name: name.into(),
-                    value: text.clone(),
-                    allowed: choices_text(items),
-                };
-                match name {
-                    "scene" => self.scene = Scene::parse(&text).ok_or_else(bad)?,
-                    "scheme" => self.scheme = SchemeKind::parse(&text).ok_or_else(bad)?,
-                    "rheology" => self.rheology = RheologyKind::parse(&text).ok_or_else(bad)?,
-                    "conformation_method" => {
-                        self.conformation_method =
-                            ConformationMethod::parse(&text).ok_or_else(bad)?
-                    }
-                    "artificial_stress_kind" => {
-                        self.artificial_stress_kind =
-                            ArtificialStressKind::parse(&text).ok_or_else(bad)?
-                    }
-                    "equation_of_state" => {
-                        self.equation_of_state = EquationOfState::parse(&text).ok_or_else(bad)?
-                    }
-                    "viscous_operator" => {
-                        self.viscous_operator = ViscousOperator::parse(&text).ok_or_else(bad)?
-                    }
-                    "isph_frame" => self.isph_frame = IsphFrame::parse(&text).ok_or_else(bad)?,
-                    "isph_viscous_step" => {
-                        self.isph_viscous_step = ViscousStep::parse(&text).ok_or_else(bad)?
-                    }
-                    "isph_free_surface" => {
-                        self.isph_free_surface = IsphFreeSurface::parse(&text).ok_or_else(bad)?
-                    }
-                    _ => unreachable!("enumeration row without field: {name}"),
-                }
-            }
-        }
+        let checked = spec.kind.check(name, value)?;
+        assert!(
+            self.store(spec.name, checked),
+            "every row has a field: {}",
+            spec.name
+        );
         Ok(())
     }
 
     /// Current value of a parameter by name (enumerations as their 1-based index).
     pub fn get(&self, name: &str) -> Result<Value, ConfigError> {
         let spec = param_spec(name).ok_or_else(|| ConfigError::Unknown(name.to_string()))?;
-        Ok(match spec.kind {
-            Kind::Real { .. } => Value::Real(*self.clone().real_field(name).expect("field")),
-            Kind::Integer { .. } => Value::Integer(match name {
-                "particles_per_diameter" => self.particles_per_diameter,
-                "density_reinit_interval" => self.density_reinit_interval,
-                "threads" => self.threads,
-                _ => unreachable!(),
-            }),
-            Kind::Enumeration { .. } => Value::Integer(match name {
-                "scene" => self.scene.index(),
-                "scheme" => self.scheme.index(),
-                "rheology" => self.rheology.index(),
-                "conformation_method" => self.conformation_method.index(),
-                "artificial_stress_kind" => self.artificial_stress_kind.index(),
-                "equation_of_state" => self.equation_of_state.index(),
-                "viscous_operator" => self.viscous_operator.index(),
-                "isph_frame" => self.isph_frame.index(),
-                "isph_viscous_step" => self.isph_viscous_step.index(),
-                "isph_free_surface" => self.isph_free_surface.index(),
-                _ => unreachable!(),
-            }),
-        })
+        Ok(self.value(spec.name).expect("every row has a field"))
     }
 
     /// The item name of an Enumeration parameter (what its String twin reads).
@@ -699,45 +418,7 @@ impl SceneConfig {
         }
     }
 
-    fn real_field(&mut self, name: &str) -> Option<&mut f64> {
-        Some(match name {
-            "plate_inclination" => &mut self.plate_inclination,
-            "impact_velocity" => &mut self.impact_velocity,
-            "drop_diameter" => &mut self.drop_diameter,
-            "initial_drop_height" | "drop_height" => &mut self.drop_height,
-            "density" => &mut self.density,
-            "gravity" => &mut self.gravity,
-            "viscosity" => &mut self.viscosity,
-            "viscosity_ratio" => &mut self.viscosity_ratio,
-            "relaxation_time" => &mut self.relaxation_time,
-            "fene_L2" => &mut self.fene_L2,
-            "ptt_epsilon" => &mut self.ptt_epsilon,
-            "giesekus_alpha" => &mut self.giesekus_alpha,
-            "cross_viscosity_inf" => &mut self.cross_viscosity_inf,
-            "cross_K" => &mut self.cross_K,
-            "cross_m" => &mut self.cross_m,
-            "sound_speed" => &mut self.sound_speed,
-            "artificial_viscosity_alpha" => &mut self.artificial_viscosity_alpha,
-            "artificial_viscosity_beta" => &mut self.artificial_viscosity_beta,
-            "artificial_stress_epsilon" => &mut self.artificial_stress_epsilon,
-            "time_step_factor" => &mut self.time_step_factor,
-            "smoothing_ratio" => &mut self.smoothing_ratio,
-            "evss_alpha" => &mut self.evss_alpha,
-            "artificial_stress_b" => &mut self.artificial_stress_b,
-            "fracture_void_fraction" => &mut self.fracture_void_fraction,
-            "channel_width" => &mut self.channel_width,
-            "channel_length" => &mut self.channel_length,
-            "body_force" => &mut self.body_force,
-            "jet_width" => &mut self.jet_width,
-            "nozzle_height" => &mut self.nozzle_height,
-            "jet_velocity" => &mut self.jet_velocity,
-            "container_width" => &mut self.container_width,
-            "plate_velocity" => &mut self.plate_velocity,
-            _ => return None,
-        })
-    }
-
-    /// The start values of the inputs (see [`INPUT_NAMES`]).
+    /// The start values of the inputs ([`input_names`]).
     pub fn inputs(&self) -> crate::state::Inputs {
         crate::state::Inputs {
             plate_velocity: self.plate_velocity,
@@ -767,7 +448,7 @@ impl SceneConfig {
         let fall = match self.scene {
             Scene::Drop => {
                 let theta = self.plate_inclination.to_radians();
-                (self.drop_height - 0.5 * self.drop_diameter / theta.cos()).max(0.0)
+                (self.initial_drop_height - 0.5 * self.drop_diameter / theta.cos()).max(0.0)
             }
             Scene::Jet => {
                 let u0 = self.jet_velocity;
@@ -775,7 +456,7 @@ impl SceneConfig {
                     .sqrt()
                     .max(1e-3);
             }
-            Scene::EllipticalDrop => self.drop_height.max(0.0),
+            Scene::EllipticalDrop => self.initial_drop_height.max(0.0),
             Scene::Channel => {
                 // The steady Newtonian centre-line speed U = rho g H^2 / (8 eta0); an elastic
                 // start-up overshoots it (Waters & King 1970: 2.85 U at Re = Wi = 1, more when
@@ -952,32 +633,6 @@ impl SceneConfig {
     }
 }
 
-/// Human-readable range of a row, e.g. "[0, 90)".
-pub fn range_text(kind: &Kind) -> String {
-    match *kind {
-        Kind::Real {
-            min,
-            max,
-            min_open,
-            max_open,
-            ..
-        } => format!(
-            "{}{}, {}{}",
-            if min_open { "(" } else { "[" },
-            min,
-            max,
-            if max_open { ")" } else { "]" }
-        ),
-        Kind::Integer { min, max, .. } => format!("[{min}, {max}]"),
-        Kind::Enumeration { items, .. } => choices_text(items),
-    }
-}
-
-fn choices_text(items: &[(&str, &str)]) -> String {
-    let names: Vec<String> = items.iter().map(|(n, _)| format!("'{n}'")).collect();
-    format!("{{{}}}", names.join(", "))
-}
-
 /// What a jet gets for the keys a scene file leaves out, over the parameter table's defaults
 /// (which are Fang's drop): King & Lind 2021 section IV.D's Oldroyd-B jet, D = 6 mm,
 /// U0 = 0.2 m/s, nozzle 12 D above the plate, eta0 = 8.8 Pa s, rho = 1023 kg/m3 (Re = 0.14),
@@ -1089,7 +744,10 @@ mod tests {
     #[test]
     fn both_names_of_the_drop_height_are_refused() {
         let c = SceneConfig::from_toml_str("drop_height = 0.05\n").unwrap();
-        assert_eq!(c.drop_height, 0.05, "the older name still works alone");
+        assert_eq!(
+            c.initial_drop_height, 0.05,
+            "the older name still works alone"
+        );
         let e = SceneConfig::from_toml_str("drop_height = 0.05\ninitial_drop_height = 0.06\n")
             .unwrap_err()
             .to_string();
