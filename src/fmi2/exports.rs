@@ -443,7 +443,7 @@ fn item_c_str(name: &str) -> fmi2String {
     use std::sync::OnceLock;
     static NAMES: OnceLock<Vec<(&'static str, CString)>> = OnceLock::new();
     let names = NAMES.get_or_init(|| {
-        crate::config::PARAMS
+        crate::scene::PARAMS
             .iter()
             .filter_map(|p| match p.kind {
                 crate::config::Kind::Enumeration { items, .. } => Some(items),
@@ -984,6 +984,6 @@ mod tests {
     }
 
     fn viscosph_vr(name: &str) -> u32 {
-        crate::config::param_spec(name).unwrap().value_reference
+        crate::scene::param_spec(name).unwrap().value_reference
     }
 }

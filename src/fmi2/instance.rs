@@ -14,10 +14,10 @@
 
 use super::model_description::{guid, LOG_CATEGORIES};
 use super::types::Status;
-use crate::config::{
-    name_variable_by_vr, param_by_vr, Kind, ParamSpec, SceneConfig, Value, NAME_SUFFIX,
+use crate::config::{Kind, ParamSpec, Value};
+use crate::scene::{
+    input_rows, name_variable_by_vr, param_by_vr, Outputs, SceneConfig, NAME_SUFFIX, OUTPUTS,
 };
-use crate::diagnostics::{Outputs, OUTPUTS};
 use crate::simulation::{SimError, Simulation};
 use serde::{Deserialize, Serialize};
 
@@ -459,11 +459,11 @@ impl Instance {
                         "initialized: scene {}, scheme {}, rheology {}, {n} fluid particles, dx = {} m",
                         s.cfg.scene,
                         s.cfg.scheme,
-                        s.cfg.rheology,
+                        s.cfg.fluid.rheology,
                         s.cfg.dx()
                     ),
                 );
-                if let Some(w) = crate::scene::jet::isph_warning(&s.cfg) {
+                if let Some(w) = s.cfg.warning() {
                     s.log(Category::Warning, Status::Warning, w);
                 }
                 Ok(Status::Ok)
@@ -703,7 +703,7 @@ impl Instance {
                                 "'{}' (valueReference {vr}) is a parameter with variability \"fixed\": \
                                  after fmi2ExitInitializationMode only inputs ({}) can be set; call fmi2Reset to change it",
                                 p.name,
-                                crate::config::input_names().collect::<Vec<_>>().join(", ")
+                                input_rows().map(|p| p.name).collect::<Vec<_>>().join(", ")
                             ))
                         }
                         Var::Param(p) if accepts(&p.kind) => cfg
@@ -933,7 +933,7 @@ impl Instance {
 fn non_finite(o: &Outputs) -> Option<&'static str> {
     o.values()
         .iter()
-        .zip(OUTPUTS)
+        .zip(OUTPUTS.iter())
         .find(|(v, _)| !v.is_finite())
         .map(|(_, s)| s.name)
 }
@@ -997,7 +997,7 @@ mod tests {
     }
 
     fn vr(name: &str) -> u32 {
-        crate::config::param_spec(name)
+        crate::scene::param_spec(name)
             .map(|p| p.value_reference)
             .or_else(|| {
                 OUTPUTS
@@ -1011,7 +1011,7 @@ mod tests {
     #[test]
     fn string_twins_set_and_read_the_enumerations_all_or_nothing() {
         let (mut i, log) = instance(false);
-        let twin = |name: &str| vr(name) + crate::config::NAME_VR_OFFSET;
+        let twin = |name: &str| vr(name) + crate::scene::NAME_VR_OFFSET;
         assert_eq!(
             i.set_string(
                 &[twin("rheology"), twin("scheme")],
@@ -1019,8 +1019,11 @@ mod tests {
             ),
             Status::Ok
         );
-        assert_eq!(i.config().rheology, crate::config::RheologyKind::Giesekus);
-        assert_eq!(i.config().scheme, crate::config::SchemeKind::Pdri);
+        assert_eq!(
+            i.config().fluid.rheology,
+            crate::config::RheologyKind::Giesekus
+        );
+        assert_eq!(i.config().scheme, crate::scene::SchemeKind::Pdri);
         // a bad name in the second place leaves the first value unset too
         assert_eq!(
             i.set_string(
@@ -1102,8 +1105,8 @@ mod tests {
             "{msg}"
         );
         assert_eq!(
-            i.config().initial_drop_height,
-            SceneConfig::default().initial_drop_height
+            i.config().drop.initial_drop_height,
+            SceneConfig::default().drop.initial_drop_height
         );
         i.reset();
         assert_eq!(
@@ -1145,7 +1148,7 @@ mod tests {
 
     #[test]
     fn the_jet_under_isph_with_p_zero_on_its_surface_warns_once_at_initialization() {
-        let twin = |name: &str| vr(name) + crate::config::NAME_VR_OFFSET;
+        let twin = |name: &str| vr(name) + crate::scene::NAME_VR_OFFSET;
         let warnings = |scheme: &str, surface: &str| {
             let (mut i, log) = instance(true);
             assert_eq!(
