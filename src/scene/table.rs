@@ -171,20 +171,24 @@ mod tests {
 
     #[test]
     fn names_are_unique() {
-        let mut names: Vec<&str> = PARAMS
+        // The FMU's variables: parameters, outputs and String twins.
+        let mut names: Vec<String> = PARAMS
             .iter()
-            .flat_map(|p| std::iter::once(p.name).chain(p.alias))
-            .chain(
-                OUTPUTS
-                    .iter()
-                    .filter(|o| o.name != "drop_height")
-                    .map(|o| o.name),
-            )
+            .map(|p| p.name.to_string())
+            .chain(OUTPUTS.iter().map(|o| o.name.to_string()))
+            .chain(name_variables().map(|(_, n, _)| n))
             .collect();
         let n = names.len();
         names.sort();
         names.dedup();
         assert_eq!(names.len(), n, "{names:?}");
+        // A scene-file key names one parameter: no alias is another parameter's name.
+        for p in PARAMS.iter() {
+            if let Some(alias) = p.alias {
+                assert!(PARAMS.iter().all(|q| q.name != alias), "{alias}");
+                assert_eq!(param_spec(alias).map(|q| q.name), Some(p.name));
+            }
+        }
     }
 
     #[test]

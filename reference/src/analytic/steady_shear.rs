@@ -62,7 +62,7 @@ use viscosph::config::RheologyKind;
 use viscosph::scene::SceneConfig;
 
 /// A constitutive model with its own parameter (King & Lind 2021 Table I; names as in
-/// `config.rs`: `fene_L2`, `ptt_epsilon`, `giesekus_alpha`). UCM is [`SteadyModel::OldroydB`]
+/// the parameter table: `fene_L2`, `ptt_epsilon`, `giesekus_alpha`). UCM is [`SteadyModel::OldroydB`]
 /// with beta = 0.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum SteadyModel {
