@@ -108,6 +108,26 @@ pub struct ParamSpec {
 }
 
 impl ParamSpec {
+    /// The row of a parameter that chooses one of the items of `C` (an FMI Enumeration of type
+    /// `type_name`), declared by a registry rather than in a group (`scene`, `scheme`).
+    pub const fn choice<C: Choice>(
+        name: &'static str,
+        value_reference: u32,
+        type_name: &'static str,
+        default: &'static str,
+        description: &'static str,
+    ) -> Self {
+        Self {
+            name,
+            value_reference,
+            kind: enumeration::<C>(type_name, default),
+            unit: "",
+            description,
+            alias: None,
+            input: false,
+        }
+    }
+
     /// Whether this row is an input (see [`ParamSpec::input`]).
     pub fn is_input(&self) -> bool {
         self.input

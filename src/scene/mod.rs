@@ -6,7 +6,7 @@
 //! from it come the `scene` parameter and its items, the configuration [`SceneConfig`] (the
 //! shared groups and every scene's), the outputs [`Outputs`] (the shared ones and every
 //! scene's), and the one `match` that maps the `scene` parameter to its behaviour. A new scene is
-//! a new file and one line in [`scenes!`]'s list.
+//! a new file and one line in the `scenes!` list below.
 //!
 //! Nothing outside this file and `scheme/mod.rs` tests which scene or scheme runs: what differs
 //! between scenes is a method of [`Scene`] (with a default that most scenes keep), and what
@@ -26,8 +26,8 @@ pub use table::{
 use crate::boundary::plate::Plate;
 use crate::choice::Choice;
 use crate::config::{
-    enumeration, ConfigError, FluidParams, IsphFreeSurface, Numerics, ParamGroup, ParamSpec,
-    ParamValue, PlateParams, Value,
+    ConfigError, FluidParams, IsphFreeSurface, Numerics, ParamGroup, ParamSpec, ParamValue,
+    PlateParams, Value,
 };
 use crate::diagnostics::{OutputGroup, OutputSpec, SharedOutputs};
 use crate::neighbors::Domain;
@@ -38,8 +38,9 @@ use crate::{Mat2, Vec2};
 use serde::{de::DeserializeOwned, Deserialize, Serialize};
 
 /// One kind of flow: how it is built, driven and measured, and how a run of it is reported.
-/// Every method gets the configuration the solver runs (`SceneConfig::effective`), in which the
-/// scene's own group is `cfg.<scene>` (e.g. `cfg.jet`).
+/// Every method but [`Scene::effective_config`] gets the configuration the solver runs
+/// (`SceneConfig::effective`; the scales and [`Scene::reference_length`] read only what it does
+/// not change), in which the scene's own group is `cfg.<scene>` (e.g. `cfg.jet`).
 pub trait Scene: Send + Sync {
     // ---- Parameters and scales.
 
@@ -373,15 +374,8 @@ scenes! {
 }
 
 /// The row of the `scene` parameter.
-pub const SCENE_ROW: ParamSpec = ParamSpec {
-    name: "scene",
-    value_reference: 1,
-    kind: enumeration::<SceneKind>("Scene", "drop"),
-    unit: "",
-    description: "Which flow to simulate",
-    alias: None,
-    input: false,
-};
+pub const SCENE_ROW: ParamSpec =
+    ParamSpec::choice::<SceneKind>("scene", 1, "Scene", "drop", "Which flow to simulate");
 
 impl SceneKind {
     /// The snake_case name used in the FMU and in scene files.

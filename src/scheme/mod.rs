@@ -17,9 +17,7 @@ pub mod wc;
 pub mod wcsph;
 
 use crate::boundary::plate::Plate;
-use crate::config::{
-    enumeration, ConfigError, FluidParams, IsphFrame, IsphFreeSurface, Numerics, ParamSpec,
-};
+use crate::config::{ConfigError, FluidParams, IsphFrame, IsphFreeSurface, Numerics, ParamSpec};
 use crate::kernel::CubicSpline;
 use crate::rheology::{AnyRheology, Rheology};
 use crate::state::State;
@@ -43,15 +41,8 @@ crate::choice_enum!(
     SchemeKind, SCHEMES, Wcsph = "wcsph", Pdri = "pdri", Isph = "isph");
 
 /// The row of the `scheme` parameter.
-pub const SCHEME_ROW: ParamSpec = ParamSpec {
-    name: "scheme",
-    value_reference: 2,
-    kind: enumeration::<SchemeKind>("Scheme", "wcsph"),
-    unit: "",
-    description: "SPH scheme",
-    alias: None,
-    input: false,
-};
+pub const SCHEME_ROW: ParamSpec =
+    ParamSpec::choice::<SchemeKind>("scheme", 2, "Scheme", "wcsph", "SPH scheme");
 
 /// What the rest of the solver may know about a scheme: data, never a branch on its name.
 impl SchemeKind {
