@@ -3,7 +3,7 @@
 //! follows from it for the solver (spacing, sound speed, the scheme's constants). Everything a
 //! scene decides is asked of the scene; nothing here names one.
 
-use super::{param_spec, Outputs, Scene, SceneConfig, SceneKind, PARAMS};
+use super::{param_spec, Scene, SceneConfig, SceneKind, PARAMS};
 use crate::config::{range_text, ConfigError, Kind, ParamGroup, Value, SOUND_SPEED_FACTOR};
 use crate::diagnostics::SharedOutputs;
 use crate::eos::Eos;
@@ -329,11 +329,6 @@ impl SceneConfig {
             s.push('\n');
         }
         s
-    }
-
-    /// The outputs of a state of this (effective) configuration (see [`Scene::outputs`]).
-    pub fn outputs(&self, st: &State) -> Outputs {
-        self.scene_def().outputs(st, self)
     }
 }
 

@@ -386,10 +386,6 @@ impl SceneKind {
     pub fn parse(s: &str) -> Option<Self> {
         Self::from_name(s)
     }
-    /// FMI enumeration index (1-based, in table order).
-    pub fn index(self) -> i64 {
-        self.item_index()
-    }
 }
 
 impl std::fmt::Display for SceneKind {
