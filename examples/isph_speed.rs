@@ -8,7 +8,8 @@
 //! run is `viscosph bench isph`'s, without its outputs every 0.05 t* (W* is read once per t*).
 
 use std::time::Instant;
-use viscosph::config::{SceneConfig, Value};
+use viscosph::config::Value;
+use viscosph::scene::SceneConfig;
 use viscosph::simulation::Simulation;
 
 /// CPU time of this process (user + system), seconds.
@@ -55,7 +56,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let st = sim.state();
         eprintln!(
             "t* = {k:.1}: W* = {:.3}, {} steps, PPE iterations {}, viscous {}, {:.1} s, CPU {:.1} s",
-            o.drop_width / 0.02,
+            o.shared.drop_width / 0.02,
             st.step,
             st.solver_iterations[0],
             st.solver_iterations[1],
@@ -66,7 +67,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (wall, cpu) = (t0.elapsed().as_secs_f64(), cpu_seconds() - c0);
     let st = sim.state();
     let steps = st.step.max(1) as f64;
-    let tm = sim.scheme_timings().unwrap_or_default();
+    let tm = sim.scheme_timings();
     let tot = tm.total.max(1e-12);
     println!("| rheology | W/dr | particles | threads | t* | steps | wall [s] | CPU [s] | PPE iterations/step | viscous iterations/step | time in PPE | time in viscous solve |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
@@ -76,8 +77,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         st.step,
         st.solver_iterations[0] as f64 / steps,
         st.solver_iterations[1] as f64 / steps,
-        100.0 * tm.pressure_solve / tot,
-        100.0 * tm.viscous_solve / tot,
+        100.0 * tm.part("pressure solve") / tot,
+        100.0 * tm.part("viscous solve") / tot,
         error.map(|e| format!(" broke down: {e}")).unwrap_or_default()
     );
     Ok(())

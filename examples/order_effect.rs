@@ -7,7 +7,7 @@
 //! `cargo run --release --example order_effect -- SCENE.toml [STEPS] [ROUNDS] [T_START]`
 
 use std::time::Instant;
-use viscosph::config::SceneConfig;
+use viscosph::scene::SceneConfig;
 use viscosph::simulation::Simulation;
 use viscosph::state::State;
 
@@ -94,7 +94,7 @@ fn main() {
     // Optionally run the drop to this time first (the order after the flow has mixed it).
     let t_start: f64 = args.get(4).map_or(0.0, |s| s.parse().unwrap());
     let mut cfg = SceneConfig::from_toml_str(&text).unwrap();
-    cfg.threads = 1;
+    cfg.numerics.threads = 1;
     let mut sim = Simulation::new(cfg).unwrap();
     sim.advance_to(t_start.max(1e-12)).unwrap();
     let dt = sim.state().last_dt;

@@ -50,8 +50,8 @@
 #[cfg(target_arch = "x86_64")]
 mod ceiling {
     use std::time::Instant;
-    use viscosph::config::SceneConfig;
     use viscosph::neighbors::{CellGrid, Domain, NeighborList};
+    use viscosph::scene::SceneConfig;
     use viscosph::simulation::Simulation;
     use viscosph::Vec2;
 
@@ -877,13 +877,13 @@ mod ceiling {
         let steps: u64 = args.get(3).map_or(20, |s| s.parse().expect("SOLVER_STEPS"));
         let text = std::fs::read_to_string(path).expect("scene file");
         let mut cfg = SceneConfig::from_toml_str(&text).expect("scene");
-        cfg.threads = 1;
+        cfg.numerics.threads = 1;
         let mut sim = Simulation::new(cfg).expect("simulation");
         // A few steps in, so velocities and densities are those of a running drop.
         sim.advance_to(1e-12).expect("first step");
         let eff = sim.effective_config().clone();
         let dx = eff.dx();
-        let h = eff.smoothing_ratio * dx;
+        let h = eff.numerics.smoothing_ratio * dx;
         let st = sim.state();
         let (x, v, rho, mass) = (
             st.fluid.x.clone(),

@@ -28,5 +28,28 @@ macro_rules! choice_enum {
         impl std::fmt::Display for $name {
             fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result { f.write_str(self.as_str()) }
         }
+        impl $crate::choice::Choice for $name {
+            const ITEMS: &'static [(&'static str, &'static str)] = $table;
+            fn name(self) -> &'static str { self.as_str() }
+            fn from_name(s: &str) -> Option<Self> { Self::parse(s) }
+        }
     };
+}
+
+/// What every choice offers to code that handles any of them (the parameter table stores and
+/// reads an Enumeration parameter through it, whatever its enum).
+pub trait Choice: Copy + 'static {
+    /// The (name, description) rows, in FMI index order (item 1 first).
+    const ITEMS: &'static [(&'static str, &'static str)];
+    /// The snake_case name of this item.
+    fn name(self) -> &'static str;
+    /// The item with this snake_case name.
+    fn from_name(s: &str) -> Option<Self>;
+    /// FMI enumeration index (1-based, in table order); 0 for an item missing from the table.
+    fn item_index(self) -> i64 {
+        Self::ITEMS
+            .iter()
+            .position(|(n, _)| *n == self.name())
+            .map_or(0, |i| i as i64 + 1)
+    }
 }

@@ -1,5 +1,8 @@
-//! What a run reports: the FMU outputs, named exactly as in ARCHITECTURE.md, and how each is
-//! computed.
+//! What a run reports: the outputs every scene shares ([`SharedOutputs`]), how each is computed,
+//! and how a scene declares its own ([`outputs!`](crate::outputs), e.g. the channel's
+//! `centreline_velocity`, the jet's `jet_deflection`: see their scene files). The scene registry
+//! ([`crate::scene`]) assembles the shared outputs and every scene's into the FMU's outputs
+//! (`scene::Outputs`); an output that does not apply to the running scene holds 0.
 //!
 //! Particle extents include half a lattice spacing on each side (each particle stands for a
 //! dx x dx square), so the initial drop measures its diameter D, not D - dx.
@@ -19,15 +22,10 @@
 //! | `time_step` | the last full time step taken |
 //! | `particle_count` | number of fluid particles |
 //! | `void_fraction` | area of holes enclosed by fluid over the fluid's area, on cells of 2 dx (see [`crate::health`]) |
-//! | `centreline_velocity` | channel: mean flow velocity of the particles within dx/2... of the centre line (see [`crate::scene::channel`]); 0 elsewhere |
-//! | `flow_rate` | channel: sum of V_i u_i over the period length, the flow rate per unit depth; 0 elsewhere |
-//! | `wall_shear_stress` | channel: force of the fluid on both walls along the flow, over twice the period length; 0 elsewhere |
 //! | `plate_displacement` | distance the plate has moved along -n (the integral of the `plate_velocity` input); 0 without a plate |
-//! | `injected_mass` | jet: mass that has entered through the nozzle since t = 0 [kg/m]; 0 elsewhere |
-//! | `jet_deflection` | jet: horizontal offset of the falling column from the nozzle axis one jet width above the heap (see [`crate::scene::jet`]); 0 elsewhere |
 //!
 //! Outputs that do not apply to a scene hold 0 (`min_conformation_det` 1), never NaN: the drop
-//! fills the drop outputs, the channel its three and the health figures; the elliptical drop
+//! fills these; the channel only the health figures (and its own three); the elliptical drop
 //! fills width and height as its extents along x and y; the jet measures width, height and spread
 //! on the heap only (see [`crate::scene::jet`]), and its wall forces are those on all its walls.
 //!
@@ -40,7 +38,6 @@
 //! equals the change of the drop's momentum minus the gravity impulse, to round-off.
 
 use crate::boundary::plate::Plate;
-use crate::config::{SceneConfig, SchemeKind};
 use crate::eos::Eos;
 use crate::kernel::Kernel;
 use crate::neighbors::{CellGrid, Domain, NeighborList};
@@ -48,9 +45,8 @@ use crate::particles::Fluid;
 use crate::state::State;
 use crate::Vec2;
 use rayon::prelude::*;
-use serde::{Deserialize, Serialize};
 
-/// One row of the output table.
+/// One row of the output table: an FMU output.
 #[derive(Debug, Clone, Copy)]
 pub struct OutputSpec {
     pub name: &'static str,
@@ -59,107 +55,101 @@ pub struct OutputSpec {
     pub description: &'static str,
 }
 
-/// The outputs, in the order of [`Outputs::values`].
-pub const OUTPUTS: &[OutputSpec] = &[
-    OutputSpec { name: "drop_width", value_reference: 101, unit: "m", description: "Extent of the fluid along the plate" },
-    OutputSpec { name: "drop_height", value_reference: 102, unit: "m", description: "Largest distance of fluid from the plate" },
-    OutputSpec { name: "wall_force_normal", value_reference: 103, unit: "N/m", description: "Force of the fluid on the plate per unit depth, normal component, positive into the plate" },
-    OutputSpec { name: "wall_force_tangential", value_reference: 104, unit: "N/m", description: "Force of the fluid on the plate per unit depth, tangential component, positive downhill" },
-    OutputSpec { name: "spread_front", value_reference: 105, unit: "m", description: "Furthest reach of the fluid downhill of the impact point, along the plate" },
-    OutputSpec { name: "spread_back", value_reference: 106, unit: "m", description: "Furthest reach of the fluid uphill of the impact point, along the plate" },
-    OutputSpec { name: "kinetic_energy", value_reference: 107, unit: "J/m", description: "Kinetic energy of the fluid per unit depth" },
-    OutputSpec { name: "volume_error", value_reference: 108, unit: "1", description: "Relative change of the fluid volume sum(m/rho)" },
-    OutputSpec { name: "max_conformation_trace", value_reference: 109, unit: "1", description: "Largest trace of the conformation tensor (0 without one)" },
-    OutputSpec { name: "min_conformation_det", value_reference: 110, unit: "1", description: "Smallest determinant of the conformation tensor (1 without one)" },
-    OutputSpec { name: "time_step", value_reference: 111, unit: "s", description: "Last time step of the solver" },
-    OutputSpec { name: "particle_count", value_reference: 112, unit: "", description: "Number of fluid particles" },
-    OutputSpec { name: "void_fraction", value_reference: 113, unit: "1", description: "Area of holes torn into the fluid over the fluid's area (tensile-instability fracture measure)" },
-    OutputSpec { name: "centreline_velocity", value_reference: 114, unit: "m/s", description: "Channel: flow velocity on the centre line (0 in other scenes)" },
-    OutputSpec { name: "flow_rate", value_reference: 115, unit: "m2/s", description: "Channel: volume flow rate per unit depth (0 in other scenes)" },
-    OutputSpec { name: "wall_shear_stress", value_reference: 116, unit: "Pa", description: "Channel: shear stress of the fluid on the walls, mean of both, positive along the flow (0 in other scenes)" },
-    OutputSpec { name: "plate_displacement", value_reference: 117, unit: "m", description: "Distance the plate has moved along its normal, away from the fluid, driven by the plate_velocity input" },
-    OutputSpec { name: "injected_mass", value_reference: 118, unit: "kg/m", description: "Jet: mass per unit depth that has entered through the nozzle since t = 0 (0 in other scenes)" },
-    OutputSpec { name: "jet_deflection", value_reference: 119, unit: "m", description: "Jet: horizontal offset of the falling column from the nozzle axis, one jet width above the heap (0 in other scenes)" },
-];
+/// A group of outputs: a struct of `f64` fields that are rows of the output table, declared once
+/// with [`outputs!`](crate::outputs).
+pub trait OutputGroup {
+    /// The rows, in field order.
+    const ROWS: &'static [OutputSpec];
+    /// Append the values in the order of [`OutputGroup::ROWS`].
+    fn push_values(&self, out: &mut Vec<f64>);
+    /// Set the values from `v`, in the order of [`OutputGroup::ROWS`]; returns the rest of `v`.
+    fn take_values<'a>(&mut self, v: &'a [f64]) -> &'a [f64];
+}
 
-/// Number of outputs.
-pub const N_OUTPUTS: usize = 19;
-const _: () = assert!(OUTPUTS.len() == N_OUTPUTS);
-
-/// `values` and `set_values` from one list of the fields, in the order of [`OUTPUTS`].
-macro_rules! output_fields {
-    ($($f:ident),+ $(,)?) => {
-        /// Values in the order of [`OUTPUTS`].
-        pub fn values(&self) -> [f64; N_OUTPUTS] {
-            [$(self.$f),+]
+/// Declare a group of outputs: each field is written once with its row (FMU name = field name,
+/// value reference, unit, description = the field's documentation); the macro generates the
+/// struct and its [`OutputGroup`] implementation.
+///
+/// ```ignore
+/// viscosph::outputs! {
+///     /// The jet's own outputs.
+///     pub struct JetOutputs {
+///         jet_deflection: vr 119, unit "m"; "Jet: horizontal offset of the falling column",
+///     }
+/// }
+/// ```
+#[macro_export]
+macro_rules! outputs {
+    (
+        $(#[$meta:meta])*
+        $vis:vis struct $name:ident {
+            $( $field:ident : vr $vr:literal, unit $unit:literal; $desc:literal ),* $(,)?
         }
-        /// Set every value from an array in the order of [`OUTPUTS`].
-        pub fn set_values(&mut self, v: [f64; N_OUTPUTS]) {
-            [$(self.$f),+] = v;
+    ) => {
+        $(#[$meta])*
+        #[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
+        $vis struct $name {
+            $( #[doc = $desc] pub $field: f64, )*
+        }
+
+        impl $crate::diagnostics::OutputGroup for $name {
+            const ROWS: &'static [$crate::diagnostics::OutputSpec] = &[
+                $(
+                    $crate::diagnostics::OutputSpec {
+                        name: stringify!($field),
+                        value_reference: $vr,
+                        unit: $unit,
+                        description: $desc,
+                    },
+                )*
+            ];
+            fn push_values(&self, out: &mut Vec<f64>) {
+                $( out.push(self.$field); )*
+                let _ = out;
+            }
+            fn take_values<'a>(&mut self, v: &'a [f64]) -> &'a [f64] {
+                let (own, rest) = v.split_at(Self::ROWS.len());
+                let own = &mut own.iter();
+                $( self.$field = *own.next().expect("one value per row"); )*
+                let _ = own;
+                rest
+            }
         }
     };
 }
 
-/// Values of every output at one time.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
-pub struct Outputs {
-    pub drop_width: f64,
-    pub drop_height: f64,
-    pub wall_force_normal: f64,
-    pub wall_force_tangential: f64,
-    pub spread_front: f64,
-    pub spread_back: f64,
-    pub kinetic_energy: f64,
-    pub volume_error: f64,
-    pub max_conformation_trace: f64,
-    pub min_conformation_det: f64,
-    pub time_step: f64,
-    pub particle_count: f64,
-    pub void_fraction: f64,
-    pub centreline_velocity: f64,
-    pub flow_rate: f64,
-    pub wall_shear_stress: f64,
-    pub plate_displacement: f64,
-    pub injected_mass: f64,
-    pub jet_deflection: f64,
+outputs! {
+    /// The outputs every scene has (see the module documentation for their definitions).
+    pub struct SharedOutputs {
+        drop_width: vr 101, unit "m"; "Extent of the fluid along the plate",
+        drop_height: vr 102, unit "m"; "Largest distance of fluid from the plate",
+        wall_force_normal: vr 103, unit "N/m"; "Force of the fluid on the plate per unit depth, normal component, positive into the plate",
+        wall_force_tangential: vr 104, unit "N/m"; "Force of the fluid on the plate per unit depth, tangential component, positive downhill",
+        spread_front: vr 105, unit "m"; "Furthest reach of the fluid downhill of the impact point, along the plate",
+        spread_back: vr 106, unit "m"; "Furthest reach of the fluid uphill of the impact point, along the plate",
+        kinetic_energy: vr 107, unit "J/m"; "Kinetic energy of the fluid per unit depth",
+        volume_error: vr 108, unit "1"; "Relative change of the fluid volume sum(m/rho)",
+        max_conformation_trace: vr 109, unit "1"; "Largest trace of the conformation tensor (0 without one)",
+        min_conformation_det: vr 110, unit "1"; "Smallest determinant of the conformation tensor (1 without one)",
+        time_step: vr 111, unit "s"; "Last time step of the solver",
+        particle_count: vr 112, unit ""; "Number of fluid particles",
+        void_fraction: vr 113, unit "1"; "Area of holes torn into the fluid over the fluid's area (tensile-instability fracture measure)",
+        plate_displacement: vr 117, unit "m"; "Distance the plate has moved along its normal, away from the fluid, driven by the plate_velocity input",
+    }
 }
 
-impl Outputs {
-    output_fields!(
-        drop_width,
-        drop_height,
-        wall_force_normal,
-        wall_force_tangential,
-        spread_front,
-        spread_back,
-        kinetic_energy,
-        volume_error,
-        max_conformation_trace,
-        min_conformation_det,
-        time_step,
-        particle_count,
-        void_fraction,
-        centreline_velocity,
-        flow_rate,
-        wall_shear_stress,
-        plate_displacement,
-        injected_mass,
-        jet_deflection,
-    );
+outputs! {
+    /// The group of a scene without outputs of its own.
+    pub struct NoOutputs {}
+}
 
-    /// Value of an output by name.
-    pub fn get(&self, name: &str) -> Option<f64> {
-        OUTPUTS
-            .iter()
-            .position(|o| o.name == name)
-            .map(|i| self.values()[i])
-    }
-
-    /// Compute every output from a state. `dx` is the lattice spacing, `rho0` the reference density.
+impl SharedOutputs {
+    /// Compute every shared output from a state. `dx` is the lattice spacing, `rho0` the
+    /// reference density.
     pub fn compute(st: &State, dx: f64, rho0: f64) -> Self {
         let fl = &st.fluid;
         let n = fl.len();
-        let mut o = Outputs {
+        let mut o = SharedOutputs {
             particle_count: n as f64,
             time_step: st.last_dt,
             void_fraction: st.void_fraction,
@@ -213,16 +203,13 @@ impl Outputs {
         }
         o
     }
-}
 
-impl Outputs {
-    /// [`Outputs::compute`] for the scheme of `cfg`: under the incompressible scheme the volume
-    /// error is measured geometrically ([`covered_area`]), because every particle keeps the
-    /// volume m / rho0 there and sum(m / rho) could not fail.
-    pub fn compute_for(st: &State, cfg: &SceneConfig) -> Self {
-        let mut o = Self::compute(st, cfg.dx(), cfg.density);
-        if cfg.scheme == SchemeKind::Isph && !st.fluid.is_empty() {
-            let dx = cfg.dx();
+    /// [`SharedOutputs::compute`], with the volume error measured geometrically
+    /// ([`covered_area`]) when the scheme is `incompressible`: every particle keeps the volume
+    /// m / rho0 there, so sum(m / rho) could not fail.
+    pub fn compute_for(st: &State, dx: f64, rho0: f64, incompressible: bool) -> Self {
+        let mut o = Self::compute(st, dx, rho0);
+        if incompressible && !st.fluid.is_empty() {
             let area = covered_area(&st.fluid.x, dx, st.plate());
             o.volume_error = area / (st.fluid.len() as f64 * dx * dx) - 1.0;
         }

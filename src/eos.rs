@@ -1,6 +1,6 @@
 //! Equations of state of the weakly compressible schemes: pressure from density.
 
-use crate::config::{EquationOfState, SceneConfig};
+use crate::config::EquationOfState;
 
 /// An equation of state resolved once: its kind, the reference density and the sound speed.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -13,12 +13,8 @@ pub struct Eos {
 }
 
 impl Eos {
-    pub fn from_config(cfg: &SceneConfig) -> Self {
-        Self {
-            kind: cfg.equation_of_state,
-            rho0: cfg.density,
-            c: cfg.resolved_sound_speed(),
-        }
+    pub fn new(kind: EquationOfState, rho0: f64, c: f64) -> Self {
+        Self { kind, rho0, c }
     }
 
     /// Pressure from density: Fang 2006 eq. (10), p = c^2 (rho - rho0), or Tait's equation

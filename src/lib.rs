@@ -36,7 +36,6 @@ pub type Vec2 = dim::Vector<2>;
 /// dimensions).
 pub type Mat2 = dim::Tensor<2>;
 
-pub use config::SceneConfig;
-pub use diagnostics::{Outputs, OUTPUTS};
+pub use scene::{Outputs, SceneConfig, OUTPUTS};
 pub use simulation::{SimError, Simulation};
 pub use state::State;

@@ -15,16 +15,14 @@
 //! shortened), so that an input set at a communication point acts from exactly that time; if the
 //! solver had already stepped past it, it goes back to the state before that step first.
 
-use crate::config::{ConfigError, SceneConfig, ViscousOperator};
-use crate::diagnostics::{pressure_roughness, Outputs};
+use crate::config::ConfigError;
+use crate::diagnostics::pressure_roughness;
 use crate::kernel::CubicSpline;
-use crate::rheology::AnyRheology;
-use crate::scene::elliptical_drop::{self, SemiAxes};
-use crate::scene::Scene;
+use crate::scene::{Inputs, Outputs, Scene, SceneConfig};
 use crate::scheme::params::Params;
-use crate::scheme::Scheme;
-use crate::state::{Inputs, State};
-use crate::{dispatch_rheology, Vec2};
+use crate::scheme::{Scheme, Timings};
+use crate::state::State;
+use crate::Vec2;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use thiserror::Error;
@@ -52,16 +50,21 @@ struct Saved {
     prev: Option<(f64, Outputs)>,
     exact: bool,
     rewind: Option<State>,
+    /// The inputs in force (the configuration holds their start values).
+    inputs: Inputs,
 }
 
 /// A running simulation.
 pub struct Simulation {
     cfg: SceneConfig,
     /// The configuration the solver runs: the scene's own physics over `cfg`'s numerics
-    /// ([`Scene::effective_config`]); equal to `cfg` for the drop.
+    /// ([`Scene::effective_config`]; equal to `cfg` for the drop), with the inputs in force.
     eff: SceneConfig,
     scene: &'static dyn Scene,
     state: State,
+    /// The scheme's constants, resolved once from the effective configuration with the
+    /// inputs' start values (the automatic sound speed of the jet follows its start speed).
+    params: Params,
     scheme: Box<dyn Scheme>,
     elastic: bool,
     pool: Arc<rayon::ThreadPool>,
@@ -81,58 +84,48 @@ pub struct Simulation {
     stop: Option<Arc<AtomicBool>>,
 }
 
-/// The scheme's constants for an effective configuration of `scene`.
-fn params(scene: &dyn Scene, eff: &SceneConfig) -> Params {
-    let mut p = Params::from_config(eff);
-    p.domain_radius = scene.domain_radius(eff);
-    p.domain = scene.domain(eff);
-    p.gravity = scene.body_force(eff);
-    p.viscous_laplacian = match eff.viscous_operator {
-        ViscousOperator::Auto => scene.viscous_laplacian(),
-        op => op == ViscousOperator::Laplacian,
-    };
-    p
-}
-
-/// Inputs a scene can take: finite, and a plate velocity only where there is a plate to move.
-fn check_inputs(scene: &dyn Scene, inputs: Inputs) -> Result<(), ConfigError> {
-    if !inputs.plate_velocity.is_finite() {
+/// Inputs a scene can take: a plate velocity only where there is a plate to move.
+fn check_inputs(scene: &dyn Scene, cfg: &SceneConfig) -> Result<(), ConfigError> {
+    let v = cfg.plate.plate_velocity;
+    if v != 0.0 && !scene.has_moving_plate() {
         return Err(ConfigError::Inconsistent(format!(
-            "plate_velocity = {} is not a finite number",
-            inputs.plate_velocity
-        )));
-    }
-    if !(inputs.jet_velocity.is_finite() && inputs.jet_velocity >= 0.0) {
-        return Err(ConfigError::Inconsistent(format!(
-            "jet_velocity = {} is not a finite speed >= 0 m/s",
-            inputs.jet_velocity
-        )));
-    }
-    if inputs.plate_velocity != 0.0 && !scene.has_moving_plate() {
-        return Err(ConfigError::Inconsistent(format!(
-            "plate_velocity = {} m/s: this scene has no free-standing plate to move (only the drop has)",
-            inputs.plate_velocity
+            "plate_velocity = {v} m/s: this scene has no free-standing plate to move (only {} \
+             has)",
+            crate::scene::moving_plate_scenes()
         )));
     }
     Ok(())
 }
 
+/// Put the inputs of `cfg` in force in `st`: the plate (the first wall) moves at
+/// `plate_velocity`; the scene reads its own inputs from the configuration.
+fn apply_plate_input(cfg: &SceneConfig, st: &mut State) {
+    if let Some(plate) = st.walls.first_mut() {
+        plate.velocity = cfg.plate.plate_velocity;
+    }
+}
+
 fn thread_pool(cfg: &SceneConfig) -> Result<Arc<rayon::ThreadPool>, SimError> {
     rayon::ThreadPoolBuilder::new()
-        .num_threads(cfg.threads as usize)
+        .num_threads(cfg.numerics.threads as usize)
         .thread_name(|i| format!("viscosph-{i}"))
         .build()
         .map(Arc::new)
-        .map_err(|e| SimError::Request(format!("cannot start {} threads: {e}", cfg.threads)))
+        .map_err(|e| {
+            SimError::Request(format!(
+                "cannot start {} threads: {e}",
+                cfg.numerics.threads
+            ))
+        })
 }
 
 impl Simulation {
     /// Check a configuration: the parameter table's rules and the scene's own.
     pub fn validate(cfg: &SceneConfig) -> Result<(), SimError> {
         cfg.validate()?;
-        let scene = crate::scene::for_config(cfg)?;
+        let scene = cfg.scene_def();
         scene.validate(&scene.effective_config(cfg))?;
-        check_inputs(scene, cfg.inputs())?;
+        check_inputs(scene, cfg)?;
         Ok(())
     }
 
@@ -144,25 +137,29 @@ impl Simulation {
 
     fn with_pool(cfg: SceneConfig, pool: Arc<rayon::ThreadPool>) -> Result<Self, SimError> {
         Self::validate(&cfg)?;
-        let scene = crate::scene::for_config(&cfg)?;
+        // One way down: the scene makes the configuration the solver runs and its initial
+        // state, the configuration resolves the scheme's constants, the scheme is built on them.
+        let scene = cfg.scene_def();
         let eff = scene.effective_config(&cfg);
-        let rest = dispatch_rheology!(AnyRheology::from_config(&eff)?, m => {
-            use crate::rheology::Rheology;
-            fn elastic<R: Rheology>(_: &R) -> bool { R::ELASTIC }
-            elastic(&m).then(|| m.rest_conformation())
-        });
-        let (fluid, walls) = scene.build(&eff, rest);
-        let mut state = State::new(fluid, walls);
-        scene.init_state(&eff, &mut state);
-        state.apply_inputs(cfg.inputs());
-        let (scheme, elastic) = crate::scheme::build(&eff, params(scene, &eff), &state.walls)?;
+        let rest = crate::scheme::rest_conformation(&eff.fluid);
+        let mut state = scene.initial_state(&eff, rest);
+        apply_plate_input(&eff, &mut state);
+        let params = eff.scheme_params();
+        let scheme = crate::scheme::build(
+            eff.scheme,
+            &eff.fluid,
+            &eff.numerics,
+            params.clone(),
+            &state.walls,
+        );
         Ok(Self {
             cfg,
             eff,
             scene,
             state,
+            params,
             scheme,
-            elastic,
+            elastic: rest.is_some(),
             pool,
             t_comm: 0.0,
             prev: None,
@@ -172,12 +169,13 @@ impl Simulation {
         })
     }
 
-    /// The configuration as given.
+    /// The configuration as given (its inputs are their start values).
     pub fn config(&self) -> &SceneConfig {
         &self.cfg
     }
     /// The configuration the solver runs: for the elliptical drop, the scene's own physics
-    /// (radius, density, viscosity, sound speed...) over the given numerics.
+    /// (radius, density, viscosity, sound speed...) over the given numerics; its inputs are
+    /// those in force.
     pub fn effective_config(&self) -> &SceneConfig {
         &self.eff
     }
@@ -204,7 +202,7 @@ impl Simulation {
     }
     /// The inputs in force.
     pub fn inputs(&self) -> Inputs {
-        self.state.inputs
+        self.eff.inputs()
     }
 
     /// A flag (set by a signal handler, say) that stops [`Simulation::advance_to`] before its
@@ -217,8 +215,11 @@ impl Simulation {
     /// Set the inputs from the communication time on. A change switches to exact landing on
     /// communication points (see the module documentation).
     pub fn set_inputs(&mut self, inputs: Inputs) -> Result<(), SimError> {
-        check_inputs(self.scene, inputs).map_err(|e| SimError::Request(e.to_string()))?;
-        if inputs == self.state.inputs {
+        let request = |e: ConfigError| SimError::Request(e.to_string());
+        let mut next = self.eff.clone();
+        next.apply_inputs(&inputs).map_err(request)?;
+        check_inputs(self.scene, &next).map_err(request)?;
+        if next.inputs() == self.eff.inputs() {
             return Ok(());
         }
         if !self.exact && self.state.time > self.t_comm {
@@ -232,7 +233,8 @@ impl Simulation {
             self.advance_to(t)?;
         }
         self.exact = true;
-        self.state.apply_inputs(inputs);
+        self.eff = next;
+        apply_plate_input(&self.eff, &mut self.state);
         Ok(())
     }
 
@@ -336,21 +338,16 @@ impl Simulation {
             Some((tp, before)) if self.state.time > self.t_comm && tp <= self.t_comm => {
                 let w = (self.t_comm - tp) / (self.state.time - tp);
                 let (a, b) = (before.values(), now.values());
+                let mixed_values: Vec<f64> =
+                    a.iter().zip(&b).map(|(a, b)| a + w * (b - a)).collect();
                 let mut mixed = now;
-                mixed.set_values(std::array::from_fn(|k| a[k] + w * (b[k] - a[k])));
-                mixed.time_step = now.time_step;
-                mixed.particle_count = now.particle_count;
+                mixed.set_values(&mixed_values);
+                mixed.shared.time_step = now.shared.time_step;
+                mixed.shared.particle_count = now.shared.particle_count;
                 mixed
             }
             _ => now,
         }
-    }
-
-    /// For the elliptical drop, the semi-axes of the fluid now against the exact ones (relative
-    /// error of the semi-major axis, product of the semi-axes); `None` for other scenes.
-    pub fn elliptical_semi_axes(&self) -> Option<SemiAxes> {
-        (self.cfg.scene == crate::config::Scene::EllipticalDrop)
-            .then(|| elliptical_drop::semi_axes(&self.state.fluid, self.state.time))
     }
 
     /// Pressure roughness of the fluid now: RMS of p_i minus its SPH-smoothed value, over the
@@ -358,9 +355,9 @@ impl Simulation {
     /// [`Scene::velocity_scale`]).
     pub fn pressure_roughness(&self) -> f64 {
         let u = self.scene.velocity_scale(&self.eff);
-        let p = params(self.scene, &self.eff);
+        let p = &self.params;
         let (fluid, kernel) = (&self.state.fluid, CubicSpline::new(self.eff.h()));
-        let scale = self.eff.density * u * u;
+        let scale = self.eff.fluid.density * u * u;
         self.pool
             .install(|| pressure_roughness(fluid, &p.eos, &kernel, &p.domain, scale))
     }
@@ -376,9 +373,9 @@ impl Simulation {
         self.state.fluid.mass * self.state.fluid.len() as f64
     }
 
-    /// Where the incompressible scheme's time went since the simulation was built or restored
-    /// (None for the weakly compressible schemes).
-    pub fn scheme_timings(&self) -> Option<crate::scheme::isph::IsphTimings> {
+    /// Where the scheme's time went since the simulation was built or restored (empty for
+    /// schemes that time nothing).
+    pub fn scheme_timings(&self) -> Timings {
         self.scheme.timings()
     }
 
@@ -395,6 +392,7 @@ impl Simulation {
             prev: self.prev,
             exact: self.exact,
             rewind: self.rewind.clone(),
+            inputs: self.inputs(),
         };
         bincode::serialize(&(&self.cfg, &saved)).expect("state serialises")
     }
@@ -404,15 +402,22 @@ impl Simulation {
     pub fn restore_state(&mut self, bytes: &[u8]) -> Result<(), SimError> {
         let (cfg, saved): (SceneConfig, Saved) =
             bincode::deserialize(bytes).map_err(|e| SimError::State(e.to_string()))?;
-        let pool = if cfg.threads == self.cfg.threads {
+        let pool = if cfg.numerics.threads == self.cfg.numerics.threads {
             Arc::clone(&self.pool)
         } else {
             thread_pool(&cfg)?
         };
         let mut sim = Self::with_pool(cfg, pool)?;
-        let (scheme, _) =
-            crate::scheme::build(&sim.eff, params(sim.scene, &sim.eff), &saved.state.walls)?;
-        sim.scheme = scheme;
+        sim.scheme = crate::scheme::build(
+            sim.eff.scheme,
+            &sim.eff.fluid,
+            &sim.eff.numerics,
+            sim.params.clone(),
+            &saved.state.walls,
+        );
+        sim.eff
+            .apply_inputs(&saved.inputs)
+            .map_err(|e| SimError::State(e.to_string()))?;
         sim.state = saved.state;
         sim.t_comm = saved.t_comm;
         sim.prev = saved.prev;

@@ -3,40 +3,21 @@
 
 use crate::boundary::plate::Plate;
 use crate::particles::Fluid;
-use crate::{Mat2, Vec2};
+use crate::Vec2;
+use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
-/// The continuous inputs a co-simulation master may change between communication points. They
-/// are held constant over a communication step (FMI 2.0 co-simulation without input derivatives).
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
-pub struct Inputs {
-    /// Velocity of the plate along its normal, positive away from the fluid [m/s].
-    pub plate_velocity: f64,
-    /// Jet scene: speed of the fluid leaving the nozzle, vertically down [m/s].
-    pub jet_velocity: f64,
-}
-
-/// Bookkeeping of an inlet through which particles enter during a run (the jet's nozzle): what
-/// has entered so far, in a form that makes the mass exact to the lattice. Particles themselves
-/// carry no inlet flag: whether one is still in the inlet is a matter of its position (the scene
-/// knows the inlet's region), so nothing breaks when the particles are reordered.
+/// An inlet through which particles enter during a run (the jet's nozzle): the region where
+/// particles are held at a prescribed state, and the momentum that holding and the entering
+/// particles have given the fluid. Particles carry no inlet flag: whether one is in the inlet is a
+/// matter of its position ([`Inflow::holds`]), so nothing breaks when they are reordered. What
+/// has entered so far (rows, phase) is the scene's own bookkeeping ([`State::scene`]).
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct Inflow {
-    /// Inflow velocity in force since the last update [m/s] (the `jet_velocity` input).
-    pub velocity: f64,
-    /// Length of fluid that has entered since the last row was emitted, in [0, dx) [m].
-    pub phase: f64,
-    /// Time of the last update [s].
-    pub updated: f64,
-    /// Rows emitted since t = 0.
-    pub rows: u64,
-    /// Particles emitted since t = 0.
-    pub particles: u64,
     /// Momentum the inlet has given the fluid since t = 0 [kg m/s per m depth]: the emitted
-    /// particles' and every reset of the inlet particles' velocity to the prescribed one.
+    /// particles' and every reset of the inlet particles' velocity to the prescribed one (by
+    /// the scene before the step, and by a scheme that holds them through it).
     pub momentum: Vec2,
-    /// Conformation tensor of the fluid entering (the model's at rest; unused without one).
-    pub conformation: Mat2,
     /// The inlet's region: above the height `exit` [m] and within `half_width` [m] of the
     /// vertical x = 0 (see [`Inflow::holds`]).
     pub exit: f64,
@@ -55,15 +36,32 @@ impl Inflow {
     }
 }
 
+/// The scene's own evolving data (the jet's inflow bookkeeping), encoded by the scene: the
+/// state carries it (saved with it, restored, rewound) without knowing its type, so a scene
+/// with data of its own needs no field here.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct SceneState(Vec<u8>);
+
+impl SceneState {
+    /// The encoding of `value`.
+    pub fn encode<T: Serialize>(value: &T) -> Self {
+        Self(bincode::serialize(value).expect("scene data serialises"))
+    }
+
+    /// The value encoded by [`SceneState::encode`]; None if there is none (or of another type).
+    pub fn decode<T: DeserializeOwned>(&self) -> Option<T> {
+        bincode::deserialize(&self.0).ok()
+    }
+}
+
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct State {
     pub time: f64,
     pub step: u64,
     pub fluid: Fluid,
-    /// The rigid walls: the drop's plate (none for the elliptical drop).
+    /// The rigid walls: the drop's plate (none for the elliptical drop). The first wall's
+    /// velocity is the input `plate_velocity` in force.
     pub walls: Vec<Plate>,
-    /// The inputs in force.
-    pub inputs: Inputs,
     /// Force of the fluid on the walls at the last step's corrector stage [N/m], global frame.
     pub wall_force: Vec2,
     /// Time integral of that force since t = 0 [N s/m], global frame.
@@ -76,8 +74,10 @@ pub struct State {
     /// How many times a fluid particle was put back above the plate by the impenetrability
     /// condition of Fang's walls (see [`crate::scheme::wcsph`]).
     pub wall_reflections: u64,
-    /// The inlet's bookkeeping, for scenes with inflow (the jet); None otherwise.
+    /// The inlet, for scenes with inflow (the jet); None otherwise.
     pub inflow: Option<Inflow>,
+    /// The scene's own data (see [`SceneState`]).
+    pub scene: SceneState,
     /// Incompressible scheme (isph): the pressure of every fluid particle at the last step, the
     /// warm start of the next pressure solve (so a restored state continues bitwise); empty for
     /// the weakly compressible schemes, whose pressure follows from the density.
@@ -101,24 +101,16 @@ impl State {
             step: 0,
             fluid,
             walls,
-            inputs: Inputs::default(),
             wall_force: Vec2::zeros(),
             wall_impulse: Vec2::zeros(),
             last_dt: 0.0,
             void_fraction: 0.0,
             wall_reflections: 0,
             inflow: None,
+            scene: SceneState::default(),
             pressure: Vec::new(),
             remap_impulse: Vec2::zeros(),
             solver_iterations: [0, 0],
-        }
-    }
-
-    /// Put `inputs` in force: the plate (the first wall) takes the input velocity.
-    pub fn apply_inputs(&mut self, inputs: Inputs) {
-        self.inputs = inputs;
-        if let Some(plate) = self.walls.first_mut() {
-            plate.velocity = inputs.plate_velocity;
         }
     }
 

@@ -9,7 +9,7 @@
 mod common;
 
 use common::{i, r, s};
-use viscosph::config::SceneConfig;
+use viscosph::scene::SceneConfig;
 use viscosph::simulation::Simulation;
 
 fn channel(scheme: &str, rheology: &str, across: i64) -> SceneConfig {
@@ -39,29 +39,33 @@ fn newtonian_channel_reaches_the_poiseuille_profile_under_both_schemes() {
             .unwrap_or_else(|e| panic!("{scheme}: {e}"));
         let o = sim.outputs();
         let u = 1000.0 * 80.0 * 0.02f64.powi(2) / (8.0 * 4.0);
-        let err = (o.centreline_velocity - u) / u;
+        let err = (o.channel.centreline_velocity - u) / u;
         assert!(
             err.abs() < 0.01,
             "{scheme}: centre line {} vs {u}",
-            o.centreline_velocity
+            o.channel.centreline_velocity
         );
         // Flow rate 2 U H / 3; the walls carry the body force on the fluid between the wall
         // rows, rho g H (n - 1) / (2 n).
         let q = 2.0 * u * 0.02 / 3.0;
         assert!(
-            ((o.flow_rate - q) / q).abs() < 0.01,
+            ((o.channel.flow_rate - q) / q).abs() < 0.01,
             "{scheme}: flow rate {}",
-            o.flow_rate
+            o.channel.flow_rate
         );
         let tau = 1000.0 * 80.0 * 0.02 / 2.0 * 19.0 / 20.0;
         assert!(
-            ((o.wall_shear_stress - tau) / tau).abs() < 0.02,
+            ((o.channel.wall_shear_stress - tau) / tau).abs() < 0.02,
             "{scheme}: wall shear stress {} vs {tau}",
-            o.wall_shear_stress
+            o.channel.wall_shear_stress
         );
         // The drop's outputs do not apply and hold 0, never NaN.
         assert_eq!(
-            (o.drop_width, o.spread_front, o.wall_force_normal),
+            (
+                o.shared.drop_width,
+                o.shared.spread_front,
+                o.shared.wall_force_normal
+            ),
             (0.0, 0.0, 0.0)
         );
         assert!(o.values().iter().all(|v| v.is_finite()));
@@ -79,7 +83,7 @@ fn newtonian_channel_reaches_the_poiseuille_profile_under_both_schemes() {
         let broke = nested.advance_to(0.3).is_err();
         let o = nested.outputs();
         assert!(
-            broke || (o.centreline_velocity - u).abs() > 0.05 * u,
+            broke || (o.channel.centreline_velocity - u).abs() > 0.05 * u,
             "{scheme}: nested held"
         );
     }
@@ -90,12 +94,12 @@ fn periodic_channel_is_bitwise_identical_on_one_and_two_threads() {
     for scheme in ["wcsph", "pdri"] {
         let run = |threads: i64| {
             let mut c = channel(scheme, "oldroyd_b", 12);
-            c.threads = threads;
+            c.numerics.threads = threads;
             let mut sim = Simulation::new(c).unwrap();
             sim.advance_to(0.02).unwrap();
             assert_eq!(sim.threads(), threads as usize);
             // The flow has crossed the periodic boundary by now.
-            assert!(sim.outputs().centreline_velocity > 0.05);
+            assert!(sim.outputs().channel.centreline_velocity > 0.05);
             sim.state().clone()
         };
         assert_eq!(run(1), run(2), "{scheme}");
@@ -133,25 +137,26 @@ fn fene_cr_channel_settles_on_the_oldroyd_b_flow() {
     let (fc, fc_exact, fc_tr) = steady("fene_cr");
     // The analytic profiles agree (same velocity), the conformations do not.
     assert!((fc_exact.centreline_velocity() - ob_exact.centreline_velocity()).abs() < 1e-12);
-    let rel = (fc.centreline_velocity - ob.centreline_velocity) / ob.centreline_velocity;
+    let rel = (fc.channel.centreline_velocity - ob.channel.centreline_velocity)
+        / ob.channel.centreline_velocity;
     assert!(
         rel.abs() < 0.01,
         "centre line FENE-CR {} vs Oldroyd-B {}",
-        fc.centreline_velocity,
-        ob.centreline_velocity
+        fc.channel.centreline_velocity,
+        ob.channel.centreline_velocity
     );
-    let rel_q = (fc.flow_rate - ob.flow_rate) / ob.flow_rate;
+    let rel_q = (fc.channel.flow_rate - ob.channel.flow_rate) / ob.channel.flow_rate;
     assert!(
         rel_q.abs() < 0.01,
         "flow rate FENE-CR {} vs Oldroyd-B {}",
-        fc.flow_rate,
-        ob.flow_rate
+        fc.channel.flow_rate,
+        ob.channel.flow_rate
     );
     for (name, o) in [("oldroyd_b", &ob), ("fene_cr", &fc)] {
         assert!(
-            (o.centreline_velocity - 1.0).abs() < 0.01,
+            (o.channel.centreline_velocity - 1.0).abs() < 0.01,
             "{name}: steady centre line {} vs U = 1",
-            o.centreline_velocity
+            o.channel.centreline_velocity
         );
     }
     // FENE-CR's finite extensibility shows in the normal stress (tr A < L^2), not in the flow.
@@ -180,7 +185,7 @@ fn oldroyd_b_start_up_follows_waters_and_king_under_wcsph() {
     for k in 1..=40 {
         let t = 0.005 * k as f64;
         sim.advance_to(t).unwrap();
-        let u = sim.outputs().centreline_velocity;
+        let u = sim.outputs().channel.centreline_velocity;
         worst = worst.max((u - wk.centreline_velocity(t)).abs());
         peak = peak.max(u);
     }
@@ -227,20 +232,20 @@ fn newtonian_channel_reaches_the_poiseuille_profile_under_isph_in_both_frames() 
             .unwrap_or_else(|e| panic!("{frame}: {e}"));
         let o = sim.outputs();
         assert!(
-            (o.centreline_velocity - 1.0).abs() < 0.01,
+            (o.channel.centreline_velocity - 1.0).abs() < 0.01,
             "{frame}: centre line {}",
-            o.centreline_velocity
+            o.channel.centreline_velocity
         );
         assert!(
-            (o.flow_rate - 2.0 / 3.0).abs() < 0.01 * 2.0 / 3.0,
+            (o.channel.flow_rate - 2.0 / 3.0).abs() < 0.01 * 2.0 / 3.0,
             "{frame}: flow rate {}",
-            o.flow_rate
+            o.channel.flow_rate
         );
         // Mirror walls: the fluid fills the whole width, the walls carry rho g H / 2 each.
         assert!(
-            (o.wall_shear_stress - 4.0).abs() < 0.01 * 4.0,
+            (o.channel.wall_shear_stress - 4.0).abs() < 0.01 * 4.0,
             "{frame}: wall shear stress {}",
-            o.wall_shear_stress
+            o.channel.wall_shear_stress
         );
         assert!(o.values().iter().all(|v| v.is_finite()));
         assert!(sim
@@ -261,7 +266,7 @@ fn isph_start_up(frame: &str, t_end: f64, dt: f64) -> Vec<(f64, f64)> {
             let t = k as f64 * dt;
             sim.advance_to(t)
                 .unwrap_or_else(|e| panic!("{frame} at t = {t}: {e}"));
-            (t, sim.outputs().centreline_velocity)
+            (t, sim.outputs().channel.centreline_velocity)
         })
         .collect()
 }
@@ -305,12 +310,12 @@ fn periodic_isph_channel_is_bitwise_identical_on_one_and_two_threads() {
     for frame in ["eulerian", "lagrangian"] {
         let run = |threads: i64| {
             let mut c = kl_isph(frame, "oldroyd_b", 12, 1.0);
-            c.threads = threads;
+            c.numerics.threads = threads;
             let mut sim = Simulation::new(c).unwrap();
             sim.advance_to(0.2).unwrap();
             assert_eq!(sim.threads(), threads as usize);
             // The flow has crossed the periodic boundary by now.
-            assert!(sim.outputs().centreline_velocity > 0.5);
+            assert!(sim.outputs().channel.centreline_velocity > 0.5);
             sim.state().clone()
         };
         assert_eq!(run(1), run(2), "{frame}");
@@ -338,7 +343,7 @@ fn isph_channel_start_up_is_accurate_in_time_at_the_default_step() {
                 let t = k as f64 * 0.05;
                 sim.advance_to(t)
                     .unwrap_or_else(|e| panic!("factor {factor} at t = {t}: {e}"));
-                (t, sim.outputs().centreline_velocity)
+                (t, sim.outputs().channel.centreline_velocity)
             })
             .collect()
     };
@@ -380,9 +385,9 @@ fn track_waters_king(frame: &str, wi: f64, t_end: f64) -> (f64, f64, f64) {
             .unwrap_or_else(|e| panic!("{frame}, Wi = {wi}, t = {t}: {e}"));
         let o = sim.outputs();
         let exact = wk.centreline_velocity(t);
-        peak = peak.max(o.centreline_velocity);
-        worst = worst.max((o.centreline_velocity - exact).abs() / exact.abs().max(1.0));
-        min_det = min_det.min(o.min_conformation_det);
+        peak = peak.max(o.channel.centreline_velocity);
+        worst = worst.max((o.channel.centreline_velocity - exact).abs() / exact.abs().max(1.0));
+        min_det = min_det.min(o.shared.min_conformation_det);
     }
     (peak, worst, min_det)
 }

@@ -3,7 +3,8 @@
 //! between the internal states around it, so the same drop advanced in 1 ms and in 5 ms steps
 //! agrees at the common points to round-off.
 
-use viscosph::config::{SceneConfig, Value};
+use viscosph::config::Value;
+use viscosph::scene::SceneConfig;
 use viscosph::simulation::Simulation;
 
 #[test]
@@ -28,12 +29,14 @@ fn outputs_do_not_depend_on_the_communication_step() {
             let (a, b) = (fine.outputs(), coarse.outputs());
             // Relative to the peak magnitude of each output over the run so far.
             let scale = |x: f64, y: f64| x.abs().max(y.abs()).max(1e-12);
-            worst[0] = worst[0]
-                .max((a.drop_width - b.drop_width).abs() / scale(a.drop_width, b.drop_width));
+            worst[0] = worst[0].max(
+                (a.shared.drop_width - b.shared.drop_width).abs()
+                    / scale(a.shared.drop_width, b.shared.drop_width),
+            );
             peak = peak
-                .max(a.wall_force_normal.abs())
-                .max(b.wall_force_normal.abs());
-            diffs.push((a.wall_force_normal - b.wall_force_normal).abs());
+                .max(a.shared.wall_force_normal.abs())
+                .max(b.shared.wall_force_normal.abs());
+            diffs.push((a.shared.wall_force_normal - b.shared.wall_force_normal).abs());
         }
         // The force against its peak over the run: it starts from zero at contact.
         worst[1] = diffs.iter().fold(0.0f64, |m, d| m.max(d / peak));

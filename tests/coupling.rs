@@ -10,9 +10,8 @@
 mod common;
 
 use common::{r, s};
-use viscosph::config::SceneConfig;
+use viscosph::scene::SceneConfig;
 use viscosph::simulation::Simulation;
-use viscosph::state::Inputs;
 use viscosph::Vec2;
 
 /// A rigid plate of mass `m` [kg/m] on a spring `k` [N/m/m] and a damper `c` [N s/m/m], moving
@@ -68,17 +67,14 @@ fn coupled(plate: &mut SpringPlate, h: f64, t_end: f64) -> (Simulation, Vec<f64>
     let mut forces = Vec::new();
     let n = (t_end / h).round() as usize;
     for k in 0..n {
-        let f = sim.outputs().wall_force_normal;
+        let f = sim.outputs().shared.wall_force_normal;
         forces.push(f);
         let u = plate.step(f, h);
-        sim.set_inputs(Inputs {
-            plate_velocity: u,
-            ..sim.inputs()
-        })
-        .unwrap();
+        sim.set_inputs(sim.inputs().with("plate_velocity", u))
+            .unwrap();
         sim.advance_to((k + 1) as f64 * h).unwrap();
         // The solver's plate is where the master's is.
-        let d = sim.outputs().plate_displacement;
+        let d = sim.outputs().shared.plate_displacement;
         assert!((d - plate.x).abs() < 1e-12, "{d} vs {}", plate.x);
     }
     (sim, forces)
@@ -145,7 +141,7 @@ fn a_stiff_spring_gives_the_fixed_plate_force() {
     let mut fixed = Simulation::new(drop_cfg()).unwrap();
     let mut fixed_forces = Vec::new();
     for k in 0..coupled_forces.len() {
-        fixed_forces.push(fixed.outputs().wall_force_normal);
+        fixed_forces.push(fixed.outputs().shared.wall_force_normal);
         fixed.advance_to((k + 1) as f64 * h).unwrap();
     }
     let peak = fixed_forces.iter().cloned().fold(0.0, f64::max);

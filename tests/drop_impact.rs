@@ -8,7 +8,8 @@ use common::{
     assert_impulse_matches, assert_outputs_finite, assert_spreads_monotonically, i,
     integrate_wall_force, r, s, series, series_bits,
 };
-use viscosph::config::{SceneConfig, Value};
+use viscosph::config::Value;
+use viscosph::scene::SceneConfig;
 use viscosph::simulation::{SimError, Simulation};
 use viscosph::Vec2;
 
@@ -37,17 +38,17 @@ fn newtonian_drop_spreads_monotonically_without_fracture() {
     assert_spreads_monotonically(&ser, D, T_STAR);
     let last = ser.last().unwrap().1;
     assert!(
-        last.drop_width / D > 1.8,
+        last.shared.drop_width / D > 1.8,
         "spread to W* = {}",
-        last.drop_width / D
+        last.shared.drop_width / D
     );
     for (t, o) in &ser {
         assert!(
-            o.volume_error.abs() < 0.04,
+            o.shared.volume_error.abs() < 0.04,
             "volume error {} at t = {t}",
-            o.volume_error
+            o.shared.volume_error
         );
-        assert_eq!(o.void_fraction, 0.0, "holes at t = {t}");
+        assert_eq!(o.shared.void_fraction, 0.0, "holes at t = {t}");
     }
 }
 
@@ -59,7 +60,7 @@ fn oldroyd_b_drop_spreads_retracts_and_stays_stable() {
     assert_eq!(sim.state().wall_reflections, 0);
     let w: Vec<(f64, f64)> = ser
         .iter()
-        .map(|(t, o)| (t / T_STAR, o.drop_width / D))
+        .map(|(t, o)| (t / T_STAR, o.shared.drop_width / D))
         .collect();
     // The first maximum of W* after impact, then a minimum, both before t* = 6.
     let (imax, wmax) = w
@@ -83,8 +84,10 @@ fn oldroyd_b_drop_spreads_retracts_and_stays_stable() {
         w[imin].0
     );
     let last = ser.last().unwrap().1;
-    assert!(last.max_conformation_trace.is_finite() && last.min_conformation_det > 0.0);
-    assert!(ser.iter().all(|(_, o)| o.void_fraction == 0.0));
+    assert!(
+        last.shared.max_conformation_trace.is_finite() && last.shared.min_conformation_det > 0.0
+    );
+    assert!(ser.iter().all(|(_, o)| o.shared.void_fraction == 0.0));
 }
 
 #[test]
@@ -128,7 +131,7 @@ fn momentum_balance_on_an_inclined_plate() {
     // The particles are at the solver's own time (at or just past the communication time).
     let t = sim.state().time;
     // Impulse of the plate on the fluid: change of momentum minus the gravity impulse.
-    let j = sim.fluid_momentum() - p0 - Vec2::new(0.0, -c.gravity) * mass * t;
+    let j = sim.fluid_momentum() - p0 - Vec2::new(0.0, -c.fluid.gravity) * mass * t;
     // Force of the fluid on the plate is -j.
     assert_impulse_matches((int_n, int_t), j, &plate, 0.03);
     // The exact accumulated impulse matches to round-off.
@@ -148,22 +151,22 @@ fn drop_at_rest_weighs_on_the_plate() {
     ]);
     let mut sim = Simulation::new(c.clone()).unwrap();
     sim.advance_to(0.3).unwrap();
-    let weight = sim.fluid_mass() * c.gravity;
+    let weight = sim.fluid_mass() * c.fluid.gravity;
     let o = sim.outputs();
     // Quasi-static: a viscous drop keeps creeping outward at mm/s, but its kinetic energy is
     // negligible against its potential energy scale M g D.
     assert!(
-        o.kinetic_energy < 1e-3 * weight * D,
+        o.shared.kinetic_energy < 1e-3 * weight * D,
         "not at rest: KE = {}",
-        o.kinetic_energy
+        o.shared.kinetic_energy
     );
-    let err = (o.wall_force_normal - weight) / weight;
+    let err = (o.shared.wall_force_normal - weight) / weight;
     assert!(
         err.abs() < 0.02,
         "normal force {} vs weight {weight} ({err:+.4})",
-        o.wall_force_normal
+        o.shared.wall_force_normal
     );
-    assert!(o.wall_force_tangential.abs() < 1e-3 * weight);
+    assert!(o.shared.wall_force_tangential.abs() < 1e-3 * weight);
 }
 
 #[test]
@@ -173,12 +176,14 @@ fn level_plate_spreads_symmetrically() {
     assert!(err.is_none(), "{err:?}");
     for (t, o) in &ser {
         assert!(
-            (o.spread_front - o.spread_back).abs() <= c.dx(),
+            (o.shared.spread_front - o.shared.spread_back).abs() <= c.dx(),
             "front {} back {} at t = {t}",
-            o.spread_front,
-            o.spread_back
+            o.shared.spread_front,
+            o.shared.spread_back
         );
-        assert!(o.wall_force_tangential.abs() < 1e-6 * o.wall_force_normal.abs().max(1.0));
+        assert!(
+            o.shared.wall_force_tangential.abs() < 1e-6 * o.shared.wall_force_normal.abs().max(1.0)
+        );
     }
 }
 
@@ -189,13 +194,13 @@ fn inclined_plate_spreads_downhill() {
     assert!(err.is_none(), "{err:?}");
     let o = ser.last().unwrap().1;
     assert!(
-        o.spread_front > o.spread_back + 2.0 * c.dx(),
+        o.shared.spread_front > o.shared.spread_back + 2.0 * c.dx(),
         "{} vs {}",
-        o.spread_front,
-        o.spread_back
+        o.shared.spread_front,
+        o.shared.spread_back
     );
     assert!(
-        o.wall_force_tangential > 0.0,
+        o.shared.wall_force_tangential > 0.0,
         "the fluid drags the plate downhill"
     );
 }
@@ -206,7 +211,7 @@ fn outputs_are_bitwise_identical_on_one_and_two_threads() {
     // Each simulation runs in its own pool of `threads` workers.
     let run = |threads: i64| {
         let mut c = c.clone();
-        c.threads = threads;
+        c.numerics.threads = threads;
         let (ser, err, sim) = series(&c, 2.5 * T_STAR, 0.25 * T_STAR);
         assert!(err.is_none());
         assert_eq!(sim.threads(), threads as usize);

@@ -19,8 +19,9 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::OnceLock;
 use std::time::Instant;
-use viscosph::config::{param_spec, SceneConfig, Value};
-use viscosph::diagnostics::OUTPUTS;
+use viscosph::config::Value;
+use viscosph::scene::OUTPUTS;
+use viscosph::scene::{param_spec, SceneConfig};
 use viscosph::Simulation;
 
 fn root() -> PathBuf {

@@ -10,10 +10,11 @@
 
 use roxmltree::{Document, Node};
 use std::collections::HashSet;
-use viscosph::config::{name_variables, param_spec, Kind, SceneConfig, Value, INPUT_NAMES, PARAMS};
-use viscosph::diagnostics::OUTPUTS;
+use viscosph::config::{Kind, Value};
 use viscosph::fmi2::model_description::{name_variable_description, parameter_description};
 use viscosph::fmi2::{guid, model_description_xml};
+use viscosph::scene::OUTPUTS;
+use viscosph::scene::{name_variables, param_spec, SceneConfig, PARAMS};
 
 const PATH: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
@@ -113,7 +114,7 @@ fn every_variable_matches_the_tables() {
         }
     };
 
-    for p in PARAMS {
+    for p in PARAMS.iter() {
         let (_, v) = find(p.name);
         assert_eq!(
             num(v, "valueReference"),
@@ -182,7 +183,7 @@ fn every_variable_matches_the_tables() {
     }
 
     let mut output_indices = Vec::new();
-    for o in OUTPUTS {
+    for o in OUTPUTS.iter() {
         let (index, v) = find(o.name);
         output_indices.push(index.to_string());
         assert_eq!(
@@ -207,7 +208,7 @@ fn every_variable_matches_the_tables() {
         twins += 1;
         let (index, v) = find(&name);
         assert!(
-            index > PARAMS.len() - INPUT_NAMES.len() + OUTPUTS.len(),
+            index > PARAMS.len() - PARAMS.iter().filter(|p| p.input).count() + OUTPUTS.len(),
             "{name} after the outputs"
         );
         assert_eq!(num(v, "valueReference"), vr as f64, "{name}");
@@ -258,6 +259,6 @@ fn drop_height_is_the_older_name_of_initial_drop_height() {
     a.set("drop_height", Value::Real(0.05)).unwrap();
     b.set("initial_drop_height", Value::Real(0.05)).unwrap();
     assert_eq!(a, b);
-    assert_eq!(a.drop_height, 0.05);
+    assert_eq!(a.drop.initial_drop_height, 0.05);
     assert_eq!(a.get("initial_drop_height").unwrap(), Value::Real(0.05));
 }

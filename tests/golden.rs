@@ -15,7 +15,8 @@ mod common;
 
 use common::{i, r, s};
 use std::fmt::Write;
-use viscosph::config::{SceneConfig, Value};
+use viscosph::config::Value;
+use viscosph::scene::SceneConfig;
 use viscosph::simulation::Simulation;
 
 struct Case {

@@ -4,9 +4,8 @@
 mod common;
 
 use common::{r, s};
-use viscosph::config::SceneConfig;
+use viscosph::scene::SceneConfig;
 use viscosph::simulation::Simulation;
-use viscosph::state::Inputs;
 
 fn drop_cfg() -> SceneConfig {
     let mut c = SceneConfig::default();
@@ -39,11 +38,8 @@ fn an_input_change_acts_from_the_communication_point_exactly() {
     // Dense output: the solver's own state stepped past t1.
     assert!(sim.state().time > t1, "{}", sim.state().time);
     let before = sim.state().plate().unwrap().clone();
-    sim.set_inputs(Inputs {
-        plate_velocity: 0.25,
-        ..sim.inputs()
-    })
-    .unwrap();
+    sim.set_inputs(sim.inputs().with("plate_velocity", 0.25))
+        .unwrap();
     // It went back and landed on t1 with the old input: the plate has not moved yet.
     assert_eq!(sim.state().time, t1);
     assert_eq!(sim.time(), t1);
@@ -65,9 +61,10 @@ fn an_input_change_acts_from_the_communication_point_exactly() {
     // The outputs are those of the state itself (nothing to interpolate).
     let o = sim.outputs();
     assert_eq!(
-        o.drop_width,
+        o.shared.drop_width,
         sim.scene()
             .outputs(sim.state(), sim.effective_config())
+            .shared
             .drop_width
     );
 }
@@ -76,19 +73,13 @@ fn an_input_change_acts_from_the_communication_point_exactly() {
 fn inputs_are_checked() {
     let mut sim = Simulation::new(drop_cfg()).unwrap();
     assert!(sim
-        .set_inputs(Inputs {
-            plate_velocity: f64::NAN,
-            ..sim.inputs()
-        })
+        .set_inputs(sim.inputs().with("plate_velocity", f64::NAN))
         .is_err());
     let mut c = SceneConfig::default();
     c.set("scene", s("elliptical_drop")).unwrap();
     let mut ell = Simulation::new(c).unwrap();
     let e = ell
-        .set_inputs(Inputs {
-            plate_velocity: 1.0,
-            ..ell.inputs()
-        })
+        .set_inputs(ell.inputs().with("plate_velocity", 1.0))
         .unwrap_err();
     assert!(e.to_string().contains("no free-standing plate"), "{e}");
 }
@@ -119,16 +110,13 @@ fn a_stop_flag_stops_before_the_next_step() {
 fn save_and_restore_with_a_moving_plate_repeat_the_run_bitwise() {
     let mut sim = Simulation::new(drop_cfg()).unwrap();
     sim.advance_to(0.002).unwrap();
-    sim.set_inputs(Inputs {
-        plate_velocity: 0.2,
-        ..sim.inputs()
-    })
-    .unwrap();
+    sim.set_inputs(sim.inputs().with("plate_velocity", 0.2))
+        .unwrap();
     let saved = sim.save_state();
     sim.advance_to(0.004).unwrap();
     let first = (sim.state().clone(), sim.outputs());
     sim.restore_state(&saved).unwrap();
-    assert_eq!(sim.inputs().plate_velocity, 0.2);
+    assert_eq!(sim.inputs().get("plate_velocity").unwrap(), 0.2);
     sim.advance_to(0.004).unwrap();
     assert_eq!(first.1, sim.outputs());
     assert_eq!(first.0, *sim.state());

@@ -8,7 +8,8 @@ use common::{
     assert_impulse_matches, assert_outputs_finite, assert_spreads_monotonically, i,
     integrate_wall_force, r, s, series, series_bits,
 };
-use viscosph::config::{SceneConfig, Value};
+use viscosph::config::Value;
+use viscosph::scene::SceneConfig;
 use viscosph::simulation::Simulation;
 use viscosph::Vec2;
 
@@ -41,7 +42,7 @@ fn newtonian_drop_spreads_monotonically() {
     assert!(err.is_none(), "{err:?}");
     assert_spreads_monotonically(&ser, W, T_STAR);
     let last = ser.last().unwrap().1;
-    let w_end = last.drop_width / W;
+    let w_end = last.shared.drop_width / W;
     assert!((1.9..2.6).contains(&w_end), "W*(8) = {w_end}");
     assert_outputs_finite(&ser);
 }
@@ -56,7 +57,7 @@ fn largest_volume_error(ppd: i64, threads: i64) -> f64 {
     let (ser, err, _) = series(&c, 8.0 * T_STAR, 0.2 * T_STAR);
     assert!(err.is_none(), "{err:?}");
     ser.iter()
-        .map(|(_, o)| o.volume_error.abs())
+        .map(|(_, o)| o.shared.volume_error.abs())
         .fold(0.0, f64::max)
 }
 
@@ -98,18 +99,18 @@ fn oldroyd_b_drop_spreads_and_retracts() {
     let (k_max, w_max) = ser
         .iter()
         .enumerate()
-        .map(|(k, (_, o))| (k, o.drop_width / W))
+        .map(|(k, (_, o))| (k, o.shared.drop_width / W))
         .fold((0, 0.0), |a, b| if b.1 > a.1 { b } else { a });
     let w_after = ser[k_max..]
         .iter()
-        .map(|(_, o)| o.drop_width / W)
+        .map(|(_, o)| o.shared.drop_width / W)
         .fold(f64::INFINITY, f64::min);
     assert!(w_max > 1.8, "spread only to W* = {w_max}");
     assert!(
         w_after < w_max - 0.15,
         "no retraction: max {w_max}, later min {w_after}"
     );
-    assert!(ser.iter().all(|(_, o)| o.min_conformation_det > 0.0));
+    assert!(ser.iter().all(|(_, o)| o.shared.min_conformation_det > 0.0));
 }
 
 /// The wall force is what the mirrors exert, and the momentum balance is exact: impulse of the
@@ -131,7 +132,8 @@ fn momentum_balance_on_an_inclined_plate() {
     let (int_n, int_t) = integrate_wall_force(&mut sim, dt, n);
     let st = sim.state();
     let t = st.time;
-    let j = sim.fluid_momentum() - p0 - Vec2::new(0.0, -c.gravity) * mass * t - st.remap_impulse;
+    let j =
+        sim.fluid_momentum() - p0 - Vec2::new(0.0, -c.fluid.gravity) * mass * t - st.remap_impulse;
     let acc = st.wall_impulse;
     assert!(j.norm() > 1e-4, "{j}");
     assert!((acc + j).norm() < 1e-9 * j.norm(), "{acc} vs {}", -j);
@@ -159,15 +161,15 @@ fn drop_at_rest_weighs_on_the_plate() {
     ]);
     let mut sim = Simulation::new(c.clone()).unwrap();
     sim.advance_to(0.25).unwrap();
-    let weight = sim.fluid_mass() * c.gravity;
+    let weight = sim.fluid_mass() * c.fluid.gravity;
     let (mut fn_sum, mut ft_sum, mut ke_max) = (0.0, 0.0, 0.0f64);
     let k_max = 50;
     for k in 1..=k_max {
         sim.advance_to(0.25 + 0.001 * k as f64).unwrap();
         let o = sim.outputs();
-        fn_sum += o.wall_force_normal;
-        ft_sum += o.wall_force_tangential;
-        ke_max = ke_max.max(o.kinetic_energy);
+        fn_sum += o.shared.wall_force_normal;
+        ft_sum += o.shared.wall_force_tangential;
+        ke_max = ke_max.max(o.shared.kinetic_energy);
     }
     assert!(ke_max < 2e-3 * weight * W, "not at rest: KE = {ke_max}");
     let (f_n, f_t) = (fn_sum / k_max as f64, ft_sum / k_max as f64);
@@ -187,7 +189,7 @@ fn outputs_are_bitwise_identical_on_one_and_two_threads() {
     ]);
     let run = |threads: i64| {
         let mut c = c.clone();
-        c.threads = threads;
+        c.numerics.threads = threads;
         let (ser, err, sim) = series(&c, 1.5 * T_STAR, 0.25 * T_STAR);
         assert!(err.is_none(), "{err:?}");
         (series_bits(&ser), sim.state().clone())
@@ -240,7 +242,7 @@ fn implicit_viscosity_converges_to_explicit() {
         ]);
         let (ser, err, sim) = series(&c, 2.0 * T_STAR, 0.1 * T_STAR);
         assert!(err.is_none(), "{err:?}");
-        let ke: Vec<f64> = ser.iter().map(|(_, o)| o.kinetic_energy).collect();
+        let ke: Vec<f64> = ser.iter().map(|(_, o)| o.shared.kinetic_energy).collect();
         (ke, sim.state().step)
     };
     let mut rows = Vec::new();
@@ -280,14 +282,14 @@ fn every_rheology_spreads_the_drop() {
         assert!(err.is_none(), "{name}: {err:?}");
         let last = ser.last().unwrap().1;
         assert!(
-            last.drop_width / W > 1.3,
+            last.shared.drop_width / W > 1.3,
             "{name}: W* = {}",
-            last.drop_width / W
+            last.shared.drop_width / W
         );
         assert!(
             ser.iter()
                 .all(|(_, o)| o.values().iter().all(|v| v.is_finite())
-                    && o.min_conformation_det > 0.0),
+                    && o.shared.min_conformation_det > 0.0),
             "{name}"
         );
     }
@@ -314,11 +316,11 @@ fn low_deborah_drops_spread_like_the_viscous_drop() {
         assert!(err.is_none(), "{pairs:?}: {err:?}");
         assert_outputs_finite(&ser);
         assert!(
-            ser.iter().all(|(_, o)| o.min_conformation_det > 0.0),
+            ser.iter().all(|(_, o)| o.shared.min_conformation_det > 0.0),
             "{pairs:?}"
         );
         ser.iter()
-            .map(|(_, o)| o.drop_width / W)
+            .map(|(_, o)| o.shared.drop_width / W)
             .collect::<Vec<_>>()
     };
     let newt = width(&[("rheology", s("newtonian")), ("time_step_factor", r(0.1))]);
@@ -412,12 +414,12 @@ fn sheet_decay_rate(dt: f64, t0: f64, t1: f64) -> f64 {
         }
     }
     let c = cfg(&[("rheology", s("newtonian")), ("viscosity", r(eta))]);
-    let mut p = Params::from_config(&c);
+    let mut p = Params::new(&c.fluid, &c.numerics, c.dx(), c.resolved_sound_speed());
     p.gravity = Vec2::zeros();
     p.domain = Domain::periodic_x(l);
     p.dx = dx;
     p.eos.rho0 = rho;
-    let mut scheme = Isph::new(Newtonian::new(eta), p, &c, &[]);
+    let mut scheme = Isph::new(Newtonian::new(eta), p, &c.numerics, &[]);
     let mut st = State::new(fl, Vec::new());
     let amplitude = |st: &State| {
         let n = st.fluid.len() as f64;
@@ -474,13 +476,13 @@ fn a_blown_up_flow_stops_with_a_breakdown() {
         }
     }
     let c = cfg(&[("rheology", s("newtonian")), ("viscosity", r(eta))]);
-    let mut p = Params::from_config(&c);
+    let mut p = Params::new(&c.fluid, &c.numerics, c.dx(), c.resolved_sound_speed());
     p.gravity = Vec2::zeros();
     p.domain = Domain::periodic_x(nx as f64 * dx);
     p.dx = dx;
     p.eos.rho0 = rho;
     let mut healthy = State::new(fl.clone(), Vec::new());
-    let mut scheme = Isph::new(Newtonian::new(eta), p, &c, &[]);
+    let mut scheme = Isph::new(Newtonian::new(eta), p, &c.numerics, &[]);
     let h = scheme
         .step(&mut healthy, 1e-4)
         .expect("a sheet at rest steps");
@@ -531,17 +533,17 @@ fn drop_settling_on_the_plate_keeps_a_smooth_wall_force_and_step() {
     ]);
     let mut sim = Simulation::new(c.clone()).unwrap();
     sim.advance_to(0.04).unwrap();
-    let weight = sim.fluid_mass() * c.gravity;
+    let weight = sim.fluid_mass() * c.fluid.gravity;
     let (mut f_lo, mut f_hi) = (f64::INFINITY, 0.0f64);
     let (mut dt_lo, mut dt_hi) = (f64::INFINITY, 0.0f64);
     for k in 1..=40 {
         sim.advance_to(0.04 + 0.002 * k as f64).unwrap();
         let o = sim.outputs();
-        let f = o.wall_force_normal / weight;
+        let f = o.shared.wall_force_normal / weight;
         f_lo = f_lo.min(f);
         f_hi = f_hi.max(f);
-        dt_lo = dt_lo.min(o.time_step);
-        dt_hi = dt_hi.max(o.time_step);
+        dt_lo = dt_lo.min(o.shared.time_step);
+        dt_hi = dt_hi.max(o.shared.time_step);
     }
     assert!(
         f_lo > 0.85 && f_hi < 1.35,

@@ -5,8 +5,9 @@
 mod common;
 
 use common::{i, r, s, series_bits};
-use viscosph::config::{SceneConfig, Value};
-use viscosph::scene::jet::{buckling, Nozzle};
+use viscosph::config::Value;
+use viscosph::scene::jet::{buckling, inflow_log, Nozzle};
+use viscosph::scene::SceneConfig;
 use viscosph::simulation::Simulation;
 use viscosph::Vec2;
 use viscosph_reference::analytic::falling_sheet;
@@ -74,24 +75,22 @@ fn mass_enters_at_rho_u0_d(scheme: &str) {
     let mut worst: f64 = 0.0;
     run_stepwise(&mut sim, 0.15, |sim| {
         let st = sim.state();
-        let inflow = st.inflow.unwrap();
-        let o = viscosph::scene::for_config(sim.config())
-            .unwrap()
-            .outputs(st, &eff);
+        let inflow = inflow_log(st);
+        let o = sim.scene().outputs(st, &eff);
         // Exact to the lattice: within one row of rho U0 D t. Rows are emitted before a step,
         // so the count may lag by what entered during the last step, rho U0 D dt.
         let expected = RHO * U0 * D * st.time;
         let lag = RHO * U0 * D * st.last_dt;
-        worst = worst.max((o.injected_mass - expected).abs() / row);
+        worst = worst.max((o.jet.injected_mass - expected).abs() / row);
         assert!(
-            (o.injected_mass - expected).abs() <= row + lag,
+            (o.jet.injected_mass - expected).abs() <= row + lag,
             "t = {}: injected {} kg/m against rho U0 D t = {expected}",
             st.time,
-            o.injected_mass
+            o.jet.injected_mass
         );
         // Nothing is lost: every particle that ever entered is still there.
         assert_eq!(st.fluid.len(), n0 + inflow.particles as usize);
-        assert_eq!(o.particle_count, st.fluid.len() as f64);
+        assert_eq!(o.shared.particle_count, st.fluid.len() as f64);
         assert_eq!(inflow.particles, 6 * inflow.rows);
         assert!(st.fluid.x.iter().all(|x| x.iter().all(|v| v.is_finite())));
         checked += 1;
@@ -102,8 +101,12 @@ fn mass_enters_at_rho_u0_d(scheme: &str) {
     let outside = st.fluid.x.iter().filter(|x| !nz.contains(x)).count();
     assert!(outside as f64 > 0.5 * st.fluid.len() as f64);
     let o = sim.outputs();
-    assert!(o.drop_width > 1.5 * D, "heap {} m wide", o.drop_width);
-    assert!(o.wall_force_normal > 0.0);
+    assert!(
+        o.shared.drop_width > 1.5 * D,
+        "heap {} m wide",
+        o.shared.drop_width
+    );
+    assert!(o.shared.wall_force_normal > 0.0);
     println!("{scheme}: largest distance from rho U0 D t: {worst:.3} rows, {checked} steps");
 }
 
@@ -118,14 +121,14 @@ fn wall_impulse_balances(scheme: &str) {
     let c = cfg(6, 4.0, &[("scheme", s(scheme))]);
     let mut sim = Simulation::new(c).unwrap();
     let p0 = sim.fluid_momentum();
-    let g = sim.effective_config().gravity;
+    let g = sim.effective_config().fluid.gravity;
     let mass_time = run_stepwise(&mut sim, 0.2, |_| {});
     let st = sim.state();
-    let inflow = st.inflow.unwrap();
+    let (inlet, inflow) = (st.inflow.unwrap(), inflow_log(st));
     // d P / dt = M g + F_wall->fluid + inflow (+ ISPH's ALE remapping, zero for the others):
     // the wall impulse (fluid on wall) is the momentum brought in plus the gravity impulse
     // minus the momentum held now.
-    let entered = p0 + inflow.momentum + st.remap_impulse;
+    let entered = p0 + inlet.momentum + st.remap_impulse;
     let expected = entered + Vec2::new(0.0, -g * mass_time) - sim.fluid_momentum();
     let w = st.wall_impulse;
     assert!(w.y < 0.0, "the fluid pushes the plate down: {w:?}");
@@ -141,17 +144,17 @@ fn wall_impulse_balances(scheme: &str) {
     // for every scheme.)
     let nominal = -U0 * sim.state().fluid.mass * inflow.particles as f64;
     assert!(
-        scheme != "wcsph" || inflow.momentum.y < nominal,
+        scheme != "wcsph" || inlet.momentum.y < nominal,
         "{scheme}: {} vs {nominal}",
-        inflow.momentum.y
+        inlet.momentum.y
     );
     println!(
         "{scheme}: wall impulse {:.6e} N s/m, balance error {err:.2e}; inflow {:.4e} = {:.4e} (mass x U0) \
          + {:.4e} (nozzle)",
         w.y,
-        inflow.momentum.y,
+        inlet.momentum.y,
         nominal,
-        inflow.momentum.y - nominal
+        inlet.momentum.y - nominal
     );
 }
 
@@ -176,7 +179,7 @@ fn bitwise_on_one_and_two_threads(scheme: &str) {
         let mut sim = Simulation::new(c).unwrap();
         let (ser, err) = sim.record(0.1, 0.01);
         assert!(err.is_none(), "{err:?}");
-        assert!(sim.state().inflow.unwrap().rows > 0);
+        assert!(inflow_log(sim.state()).rows > 0);
         (series_bits(&ser), sim.state().clone())
     };
     assert!(run(1) == run(2), "{scheme}");
@@ -226,7 +229,7 @@ fn after_impact_with(
     while impact.is_none_or(|t: f64| sim.time() < t + window) {
         sim.advance_to(sim.time() + 0.005).unwrap();
         let o = sim.outputs();
-        if impact.is_none() && o.drop_height > 0.0 {
+        if impact.is_none() && o.shared.drop_height > 0.0 {
             impact = Some(sim.time());
         }
         ser.push((sim.time(), o));
@@ -302,11 +305,8 @@ fn the_inlet_follows_a_step_change_of_jet_velocity() {
     let n0 = sim.state().fluid.len();
     sim.advance_to(0.05).unwrap();
     // Twice the flow from t = 0.05 s on: a pump's step.
-    sim.set_inputs(viscosph::state::Inputs {
-        jet_velocity: 2.0 * U0,
-        ..sim.inputs()
-    })
-    .unwrap();
+    sim.set_inputs(sim.inputs().with("jet_velocity", 2.0 * U0))
+        .unwrap();
     assert_eq!(
         sim.state().time,
         0.05,
@@ -320,12 +320,12 @@ fn the_inlet_follows_a_step_change_of_jet_velocity() {
         // Within one row, plus what entered during the last step (emitted before the next).
         let lag = RHO * D * 2.0 * U0 * sim.state().last_dt;
         assert!(
-            (o.injected_mass - expected).abs() <= row + lag,
+            (o.jet.injected_mass - expected).abs() <= row + lag,
             "t = {t}: {} vs {expected}",
-            o.injected_mass
+            o.jet.injected_mass
         );
         let st = sim.state();
-        assert_eq!(st.fluid.len(), n0 + st.inflow.unwrap().particles as usize);
+        assert_eq!(st.fluid.len(), n0 + inflow_log(st).particles as usize);
         // The nozzle's particles move at the new speed (set before every step, so after one
         // they are off it only by what one step's forces did).
         let nz = Nozzle::from_config(sim.effective_config());
@@ -343,10 +343,7 @@ fn the_inlet_follows_a_step_change_of_jet_velocity() {
         );
     }
     let e = sim
-        .set_inputs(viscosph::state::Inputs {
-            jet_velocity: f64::NAN,
-            ..sim.inputs()
-        })
+        .set_inputs(sim.inputs().with("jet_velocity", f64::NAN))
         .unwrap_err();
     assert!(e.to_string().contains("jet_velocity"), "{e}");
 }
@@ -374,10 +371,10 @@ fn container_walls_hold_the_heap() {
     );
     // The walls hold the fluid, so the heap piles higher.
     assert!(
-        o_held.drop_height > o.drop_height,
+        o_held.shared.drop_height > o.shared.drop_height,
         "{} vs {}",
-        o_held.drop_height,
-        o.drop_height
+        o_held.shared.drop_height,
+        o.shared.drop_height
     );
 }
 
@@ -430,33 +427,42 @@ fn isph_holds_the_nozzle_at_the_inflow_velocity_on_its_lattice() {
 
 #[test]
 fn a_jet_scene_file_gets_king_and_linds_case() {
-    use viscosph::config::{RheologyKind, Scene, SchemeKind};
+    use viscosph::config::RheologyKind;
+    use viscosph::scene::{SceneKind, SchemeKind};
     let c = SceneConfig::from_toml_str("scene = \"jet\"\n").unwrap();
     // WCSPH: it lands within a few per cent of the slender-sheet model where ISPH at this
-    // resolution falls 11-14 % early and tears (src/config.rs JET_DEFAULTS).
+    // resolution falls 11-14 % early and tears (src/scene/jet/mod.rs DEFAULTS).
     assert_eq!(c.scheme, SchemeKind::Wcsph);
-    assert_eq!(c.rheology, RheologyKind::OldroydB);
+    assert_eq!(c.fluid.rheology, RheologyKind::OldroydB);
     assert_eq!(
-        (c.density, c.viscosity, c.viscosity_ratio, c.relaxation_time),
+        (
+            c.fluid.density,
+            c.fluid.viscosity,
+            c.fluid.viscosity_ratio,
+            c.fluid.relaxation_time
+        ),
         (1023.0, 8.8, 0.2, 0.05)
     );
     assert_eq!(
-        (c.jet_width, c.jet_velocity, c.nozzle_height),
+        (c.jet.jet_width, c.jet.jet_velocity, c.jet.nozzle_height),
         (D, U0, 0.072)
     );
     // Wi = lambda U0 / D = 5/3, Re = rho U0 D / eta0 = 0.14.
-    assert!((c.relaxation_time * U0 / D - 5.0 / 3.0).abs() < 1e-12);
-    assert!((RHO * U0 * D / c.viscosity - 0.1395).abs() < 1e-3);
-    assert_eq!(c, SceneConfig::for_scene(Scene::Jet));
+    assert!((c.fluid.relaxation_time * U0 / D - 5.0 / 3.0).abs() < 1e-12);
+    assert!((RHO * U0 * D / c.fluid.viscosity - 0.1395).abs() < 1e-3);
+    assert_eq!(c, SceneConfig::for_scene(SceneKind::Jet));
     // A key the file gives wins over the scene's default, whatever the order.
     let c = SceneConfig::from_toml_str("viscosity = 2.0\nscene = \"jet\"\nscheme = \"isph\"\n")
         .unwrap();
     assert_eq!(
-        (c.viscosity, c.scheme, c.density),
+        (c.fluid.viscosity, c.scheme, c.fluid.density),
         (2.0, SchemeKind::Isph, 1023.0)
     );
     // Other scenes keep the table's defaults (the FMU's start values).
-    assert_eq!(SceneConfig::for_scene(Scene::Drop), SceneConfig::default());
+    assert_eq!(
+        SceneConfig::for_scene(SceneKind::Drop),
+        SceneConfig::default()
+    );
     let d = SceneConfig::from_toml_str("scene = \"drop\"\n").unwrap();
     assert_eq!(d, SceneConfig::default());
     // The example scene file is King & Lind's case too (at its own resolution).
@@ -466,11 +472,12 @@ fn a_jet_scene_file_gets_king_and_linds_case() {
     ))
     .unwrap();
     let e = SceneConfig::from_toml_str(&text).unwrap();
-    let jet = SceneConfig::for_scene(Scene::Jet);
+    let jet = SceneConfig::for_scene(SceneKind::Jet);
     assert_eq!(
-        SceneConfig {
-            particles_per_diameter: jet.particles_per_diameter,
-            ..e
+        {
+            let mut c = e;
+            c.numerics.particles_per_diameter = jet.numerics.particles_per_diameter;
+            c
         },
         jet
     );

@@ -12,8 +12,9 @@
 mod common;
 
 use common::{i, r, s, series};
-use viscosph::config::{SceneConfig, Value};
-use viscosph::diagnostics::Outputs;
+use viscosph::config::Value;
+use viscosph::scene::Outputs;
+use viscosph::scene::SceneConfig;
 use viscosph::simulation::{SimError, Simulation};
 use viscosph::Vec2;
 
@@ -55,31 +56,31 @@ fn cross_drop_spreads_downhill_more_the_steeper_the_plate() {
         let (ser, err, _) = series(&c, 8.0 * T_STAR, 0.5 * T_STAR);
         assert!(err.is_none(), "{angle} deg: {err:?}");
         assert!(
-            ser.iter().all(|(_, o)| o.void_fraction == 0.0),
+            ser.iter().all(|(_, o)| o.shared.void_fraction == 0.0),
             "{angle} deg: holes"
         );
         let o = ser.last().unwrap().1;
         println!(
             "{angle} deg: X_front = {:.3} D, X_back = {:.3} D",
-            o.spread_front / D,
-            o.spread_back / D
+            o.shared.spread_front / D,
+            o.shared.spread_back / D
         );
         assert!(
-            o.spread_front > o.spread_back + 2.0 * c.dx(),
+            o.shared.spread_front > o.shared.spread_back + 2.0 * c.dx(),
             "{angle} deg: front {} back {}",
-            o.spread_front,
-            o.spread_back
+            o.shared.spread_front,
+            o.shared.spread_back
         );
         last.push(o);
     }
     for w in last.windows(2) {
         assert!(
-            w[1].spread_front > w[0].spread_front + D / 20.0,
+            w[1].shared.spread_front > w[0].shared.spread_front + D / 20.0,
             "{} then {}",
-            w[0].spread_front,
-            w[1].spread_front
+            w[0].shared.spread_front,
+            w[1].shared.spread_front
         );
-        let asym = |o: &Outputs| o.spread_front - o.spread_back;
+        let asym = |o: &Outputs| o.shared.spread_front - o.shared.spread_back;
         assert!(
             asym(&w[1]) > asym(&w[0]),
             "{} then {}",
@@ -153,7 +154,7 @@ fn pdri_is_bitwise_identical_on_one_and_two_threads() {
     // Each simulation runs in its own pool of `threads` workers.
     let on = |threads: i64| {
         let mut c = c.clone();
-        c.threads = threads;
+        c.numerics.threads = threads;
         let (ser, err, sim) = series(&c, 2.5 * T_STAR, 0.25 * T_STAR);
         assert!(err.is_none());
         assert_eq!(sim.threads(), threads as usize);
@@ -178,13 +179,13 @@ fn wall_force_balances_the_fluid_momentum() {
     let mass = sim.fluid_mass();
     sim.advance_to(4.0 * T_STAR).unwrap();
     // The particles are at the solver's own time, at or just past the communication time.
-    let j = sim.fluid_momentum() - p0 - Vec2::new(0.0, -c.gravity) * mass * sim.state().time;
+    let j = sim.fluid_momentum() - p0 - Vec2::new(0.0, -c.fluid.gravity) * mass * sim.state().time;
     let acc = sim.state().wall_impulse;
     assert!(j.norm() > 1e-4, "the plate stopped the drop: {j}");
     assert!((acc + j).norm() < 1e-9 * j.norm(), "{acc} vs {}", -j);
     let o = sim.outputs();
     assert!(
-        o.wall_force_normal > 0.0 && o.wall_force_tangential > 0.0,
+        o.shared.wall_force_normal > 0.0 && o.shared.wall_force_tangential > 0.0,
         "{o:?}"
     );
 }
@@ -232,12 +233,12 @@ fn every_rheology_and_equation_of_state_runs_under_pdri() {
         assert!(err.is_none(), "{rheology}: {err:?}");
         let o = ser.last().unwrap().1;
         assert!(
-            o.drop_width > 1.5 * D && o.wall_force_normal > 0.0,
+            o.shared.drop_width > 1.5 * D && o.shared.wall_force_normal > 0.0,
             "{rheology}: {o:?}"
         );
         assert_eq!(sim.is_elastic(), !matches!(rheology, "newtonian" | "cross"));
         if sim.is_elastic() {
-            assert!(o.min_conformation_det > 0.0 && o.max_conformation_trace > 2.0);
+            assert!(o.shared.min_conformation_det > 0.0 && o.shared.max_conformation_trace > 2.0);
         }
     }
 }

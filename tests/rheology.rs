@@ -6,12 +6,13 @@
 //! References are independent of the module: exact Oldroyd-B solutions, the published closed form
 //! of Giesekus steady shear, and the steady-state algebra of PTT and FENE solved by bisection here.
 
-use viscosph::config::{ConformationMethod, RheologyKind, SceneConfig, Value, RHEOLOGIES};
+use viscosph::config::{ConformationMethod, RheologyKind, Value, RHEOLOGIES};
 use viscosph::dispatch_rheology;
 use viscosph::rheology::{
     self, logconf, shear_rate, AnyRheology, Cross, Evss, FeneCr, FeneP, Giesekus, Newtonian,
     OldroydB, PttExponential, PttLinear, Rheology,
 };
+use viscosph::scene::SceneConfig;
 use viscosph::Mat2;
 
 const DIRECT: ConformationMethod = ConformationMethod::Direct;
@@ -707,34 +708,39 @@ fn every_rheology_builds_from_the_configuration() {
             !matches!(kind, RheologyKind::Newtonian | RheologyKind::Cross),
             "{name}"
         );
-        let eta0 = cfg.viscosity;
-        let eta_s = cfg.viscosity_ratio * eta0;
+        let eta0 = cfg.fluid.viscosity;
+        let eta_s = cfg.fluid.viscosity_ratio * eta0;
         match (kind, &model) {
             (RheologyKind::Newtonian, AnyRheology::Newtonian(m)) => assert_eq!(m.viscosity, eta0),
             (RheologyKind::OldroydB, AnyRheology::OldroydB(m)) => assert_eq!(m.p.eta_s, eta_s),
             (RheologyKind::Ucm, AnyRheology::OldroydB(m)) => {
                 assert_eq!((m.p.eta_s, m.p.eta_p), (0.0, eta0))
             }
-            (RheologyKind::FeneP, AnyRheology::FeneP(m)) => assert_eq!(m.l2, cfg.fene_L2),
-            (RheologyKind::FeneCr, AnyRheology::FeneCr(m)) => assert_eq!(m.l2, cfg.fene_L2),
+            (RheologyKind::FeneP, AnyRheology::FeneP(m)) => assert_eq!(m.l2, cfg.fluid.fene_L2),
+            (RheologyKind::FeneCr, AnyRheology::FeneCr(m)) => assert_eq!(m.l2, cfg.fluid.fene_L2),
             (RheologyKind::PttLinear, AnyRheology::PttLinear(m)) => {
-                assert_eq!(m.eps, cfg.ptt_epsilon)
+                assert_eq!(m.eps, cfg.fluid.ptt_epsilon)
             }
             (RheologyKind::PttExponential, AnyRheology::PttExponential(m)) => {
-                assert_eq!(m.eps, cfg.ptt_epsilon)
+                assert_eq!(m.eps, cfg.fluid.ptt_epsilon)
             }
             (RheologyKind::Giesekus, AnyRheology::Giesekus(m)) => {
-                assert_eq!(m.alpha, cfg.giesekus_alpha)
+                assert_eq!(m.alpha, cfg.fluid.giesekus_alpha)
             }
             (RheologyKind::Cross, AnyRheology::Cross(m)) => assert_eq!(
                 (m.eta0, m.eta_inf, m.k, m.m),
-                (eta0, cfg.cross_viscosity_inf, cfg.cross_K, cfg.cross_m)
+                (
+                    eta0,
+                    cfg.fluid.cross_viscosity_inf,
+                    cfg.fluid.cross_K,
+                    cfg.fluid.cross_m
+                )
             ),
             (k, m) => panic!("{k} built {m:?}"),
         }
         dispatch_rheology!(&model, m => {
             if elastic(m) {
-                assert_eq!(m.relaxation_time(), cfg.relaxation_time);
+                assert_eq!(m.relaxation_time(), cfg.fluid.relaxation_time);
                 let eta = m.polymer_viscosity() + m.solvent_viscosity(&Mat2::zeros());
                 assert!((eta - eta0).abs() < 1e-12);
             }

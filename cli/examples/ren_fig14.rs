@@ -8,7 +8,8 @@
 //! Ren's sign convention (Fig. 5b): X_back > 0 uphill of the impact point, X_front < 0 downhill;
 //! here X_back = spread_back / D and X_front = -spread_front / D.
 
-use viscosph::config::{SceneConfig, Value};
+use viscosph::config::Value;
+use viscosph::scene::SceneConfig;
 use viscosph_cli::io::plot::{line_panels, Panel, Series};
 use viscosph_cli::run::{run, time_scale, RunOptions};
 
@@ -48,18 +49,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 output_interval: 0.1 * ts,
                 ..RunOptions::for_scene(&cfg)
             };
-            let res = run(&cfg, &opts)?;
+            let res = run(&cfg, &opts, &viscosph::scene::NoPredictions)?;
             if let Some(e) = &res.error {
                 println!("{title} {angle} deg stopped: {e}");
             }
-            let d = cfg.drop_diameter;
+            let d = cfg.drop.drop_diameter;
             let (t_last, o) = res.series.last().expect("at least the initial output");
             println!(
                 "{title} {angle:>2} deg: t* = {:.2}, X_front = {:+.3}, X_back = {:+.3} \
                  ({} particles, {} steps, {:.1} s)",
                 t_last / ts,
-                -o.spread_front / d,
-                o.spread_back / d,
+                -o.shared.spread_front / d,
+                o.shared.spread_back / d,
                 res.particles,
                 res.steps,
                 res.wall_seconds
@@ -72,11 +73,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             };
             series.push(Series {
                 label: format!("X_front {angle} deg"),
-                points: pick(&|o| -o.spread_front),
+                points: pick(&|o| -o.shared.spread_front),
             });
             series.push(Series {
                 label: format!("X_back {angle} deg"),
-                points: pick(&|o| o.spread_back),
+                points: pick(&|o| o.shared.spread_back),
             });
         }
         panels.push(Panel {

@@ -20,9 +20,11 @@ pub mod throughput;
 
 use clap::{Args, Subcommand};
 use std::path::PathBuf;
-use viscosph::config::{SceneConfig, Value};
-use viscosph::config::{SchemeKind, SCHEMES};
-use viscosph::diagnostics::Outputs;
+use viscosph::config::Value;
+use viscosph::scene::Outputs;
+use viscosph::scene::SceneConfig;
+use viscosph::scene::SchemeKind;
+use viscosph::scheme::SCHEMES;
 
 #[derive(Args, Debug)]
 pub struct BenchArgs {
@@ -134,7 +136,7 @@ pub fn fang_cases() -> Vec<(&'static str, SceneConfig)> {
 pub fn max_width_difference(a: &[(f64, Outputs)], b: &[(f64, Outputs)], d: f64) -> f64 {
     a.iter()
         .zip(b)
-        .map(|((_, x), (_, y))| ((x.drop_width - y.drop_width) / d).abs())
+        .map(|((_, x), (_, y))| ((x.shared.drop_width - y.shared.drop_width) / d).abs())
         .fold(0.0, f64::max)
 }
 

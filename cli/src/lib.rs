@@ -4,5 +4,5 @@
 
 pub mod bench;
 pub mod io;
-pub mod jet;
+pub mod predictions;
 pub mod run;

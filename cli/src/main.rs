@@ -7,6 +7,7 @@ use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use viscosph::SceneConfig;
+use viscosph_cli::predictions::ReferenceModels;
 use viscosph_cli::run::{run, sound_speed_text, RunOptions};
 
 #[derive(Parser)]
@@ -95,7 +96,7 @@ fn main() -> ExitCode {
             match viscosph::Simulation::new(cfg.clone()) {
                 Ok(sim) => {
                     println!("{}", sound_speed_text(&cfg, sim.effective_config()));
-                    if let Some(w) = viscosph::scene::jet::isph_warning(&cfg) {
+                    if let Some(w) = cfg.warning() {
                         eprintln!("warning: {w}");
                     }
                 }
@@ -104,7 +105,7 @@ fn main() -> ExitCode {
                     return ExitCode::from(2);
                 }
             }
-            match run(&cfg, &opts) {
+            match run(&cfg, &opts, &ReferenceModels) {
                 Ok(r) => {
                     println!(
                         "{} particles, {} steps in {:.2} s ({:.3e} particle-steps/s); results in {}",
@@ -121,20 +122,8 @@ fn main() -> ExitCode {
                             r.wall_reflections
                         );
                     }
-                    if let Some(e) = r.elliptical {
-                        println!(
-                            "semi-major axis at t = {:.6} s: computed {:.6} m, exact {:.6} m, error {:+.3} %; \
-                             product of the semi-axes {:.4} R^2 (extents), {:.4} R^2 (second moments)",
-                            r.series.last().map(|s| s.0).unwrap_or(0.0),
-                            e.major,
-                            e.exact_major,
-                            100.0 * e.major_error,
-                            e.product,
-                            e.fitted_product
-                        );
-                    }
-                    if let Some(text) = viscosph_cli::jet::summary(&cfg, &r.series) {
-                        println!("{text}");
+                    for line in &r.summary {
+                        println!("{line}");
                     }
                     if let Some(e) = r.error {
                         eprintln!("error: {e}");

@@ -4,7 +4,7 @@ use crate::io::{csv, plot, vtk};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
-use viscosph::diagnostics::Outputs;
+use viscosph::scene::{time_text, Outputs, Predictions, TimePlot};
 use viscosph::simulation::{SimError, Simulation};
 use viscosph::{SceneConfig, Vec2};
 
@@ -40,7 +40,8 @@ pub fn is_run_output(name: &str) -> bool {
 /// `viscosph::scene::Scene::time_scale`): D/V for a drop (Fang's t* = t V / D), D / sqrt(g D) if
 /// V = 0; for the elliptical drop, an eighth of Ren's end time 0.008 s; H/U for the channel.
 pub fn time_scale(cfg: &SceneConfig) -> f64 {
-    viscosph::scene::time_scale(cfg)
+    let eff = cfg.effective();
+    eff.scene_def().time_scale(&eff)
 }
 
 impl RunOptions {
@@ -118,13 +119,14 @@ pub fn prepare_out_dir(dir: &Path) -> Result<usize, FileError> {
 }
 
 /// The scene file that records a run: every parameter the run used, the automatic sound speed
-/// replaced by the value chosen (so the file reruns the same flow), and for the elliptical
-/// drop only the parameters it takes from the configuration (the rest is the scene's own).
+/// replaced by the value chosen (so the file reruns the same flow), and for a scene that takes
+/// only some parameters from the configuration (the elliptical drop) only those
+/// (`Scene::taken_parameters`).
 pub fn scene_record(cfg: &SceneConfig, eff: &SceneConfig) -> String {
     let mut c = cfg.clone();
     let mut head = String::new();
-    if cfg.sound_speed == 0.0 && cfg.scene != viscosph::config::Scene::EllipticalDrop {
-        c.sound_speed = eff.resolved_sound_speed();
+    if eff.numerics.sound_speed == 0.0 {
+        c.numerics.sound_speed = eff.resolved_sound_speed();
         head = format!(
             "# sound_speed was automatic (0): {} x {:.4} m/s, the largest expected speed\n",
             viscosph::config::SOUND_SPEED_FACTOR,
@@ -132,42 +134,29 @@ pub fn scene_record(cfg: &SceneConfig, eff: &SceneConfig) -> String {
         );
     }
     let text = c.to_toml_string();
-    if cfg.scene == viscosph::config::Scene::EllipticalDrop {
-        head.push_str(
-            "# The elliptical drop defines its own fluid, size, velocity field and sound speed\n\
-             # (Monaghan 1994); these are the parameters it takes from the scene file.\n",
-        );
-        let used = [
-            "scene",
-            "scheme",
-            "particles_per_diameter",
-            "smoothing_ratio",
-            "time_step_factor",
-            "equation_of_state",
-            "density_reinit_interval",
-        ];
-        for line in text.lines() {
-            if used.iter().any(|u| line.starts_with(&format!("{u} = "))) {
-                head.push_str(line);
-                head.push('\n');
+    match cfg.scene_def().taken_parameters() {
+        Some((note, used)) => {
+            head.push_str(note);
+            for line in text.lines() {
+                if used.iter().any(|u| line.starts_with(&format!("{u} = "))) {
+                    head.push_str(line);
+                    head.push('\n');
+                }
             }
+            head
         }
-        head
-    } else {
-        head + &text
+        None => head + &text,
     }
 }
 
 /// A one-line description of the sound speed a configuration runs with, for the CLI.
 pub fn sound_speed_text(cfg: &SceneConfig, eff: &SceneConfig) -> String {
     let c = eff.resolved_sound_speed();
-    if cfg.scheme == viscosph::config::SchemeKind::Isph {
-        "incompressible (isph): no sound speed; the time step follows the flow speed and the \
-         polymer (and the viscosity with isph_viscous_step = explicit)"
-            .into()
-    } else if cfg.scene == viscosph::config::Scene::EllipticalDrop {
-        format!("sound speed c = {c} m/s (the elliptical drop's own)")
-    } else if cfg.sound_speed > 0.0 {
+    if let Some(text) = cfg.scheme.sound_speed_text() {
+        text.into()
+    } else if let Some(own) = cfg.scene_def().own_sound_speed() {
+        format!("sound speed c = {c} m/s ({own})")
+    } else if cfg.numerics.sound_speed > 0.0 {
         format!("sound speed c = {c} m/s (set)")
     } else {
         format!(
@@ -189,8 +178,11 @@ pub struct RunResult {
     pub particles: usize,
     /// Particles put back above the plate by the impenetrability condition of Fang's walls.
     pub wall_reflections: u64,
-    /// For the elliptical drop: the semi-axes at the end against the exact ones.
-    pub elliptical: Option<viscosph::scene::elliptical_drop::SemiAxes>,
+    /// What the scene says about the run (`Scene::summary`): e.g. the elliptical drop's
+    /// semi-axis error, the jet's buckling.
+    pub summary: Vec<String>,
+    /// The state at the end (the last good one after a breakdown).
+    pub state: viscosph::State,
     /// Stopped by [`RunOptions::stop`] (a signal) before `t_end`, at this time.
     pub interrupted: Option<f64>,
 }
@@ -202,7 +194,7 @@ impl RunResult {
         let trace = self
             .series
             .iter()
-            .map(|(_, o)| o.max_conformation_trace)
+            .map(|(_, o)| o.shared.max_conformation_trace)
             .fold(0.0, f64::max);
         if trace > 0.0 {
             format!("{trace:.2}")
@@ -234,40 +226,25 @@ pub fn colour_field(sim: &Simulation) -> (&'static str, Vec<f64>) {
     }
 }
 
-fn snapshot(sim: &Simulation, ts: f64) -> plot::Snapshot {
+fn snapshot(sim: &Simulation) -> plot::Snapshot {
     let f = &sim.state().fluid;
     let eff = sim.effective_config();
-    let has_plate = eff.scene != viscosph::config::Scene::EllipticalDrop;
     plot::Snapshot {
-        title: if has_plate {
-            format!(
-                "t* = {:.2} (t = {})",
-                sim.time() / ts,
-                time_text(sim.time())
-            )
-        } else {
-            format!("t = {}", time_text(sim.time()))
-        },
+        title: sim.scene().time_label(eff, sim.time()),
         // Every wall surface (the drop's plate, both channel walls), from the state's plates.
-        plates: if has_plate {
-            sim.state()
-                .walls
-                .iter()
-                .map(|w| {
-                    let o = w.point(0.0, 0.0);
-                    plot::PlateLine {
-                        point: (o.x, o.y),
-                        tangent: (w.t.x, w.t.y),
-                    }
-                })
-                .collect()
-        } else {
-            Vec::new()
-        },
-        nozzle: (eff.scene == viscosph::config::Scene::Jet).then(|| {
-            let w = 0.5 * eff.jet_width;
-            (-w, w, eff.nozzle_height)
-        }),
+        plates: sim
+            .state()
+            .walls
+            .iter()
+            .map(|w| {
+                let o = w.point(0.0, 0.0);
+                plot::PlateLine {
+                    point: (o.x, o.y),
+                    tangent: (w.t.x, w.t.y),
+                }
+            })
+            .collect(),
+        nozzle: sim.scene().inlet_mark(eff),
         spacing: eff.dx(),
         points: f.x.iter().map(|p| (p.x, p.y)).collect(),
         values: colour_field(sim).1,
@@ -277,15 +254,6 @@ fn snapshot(sim: &Simulation, ts: f64) -> plot::Snapshot {
             .step_by(2)
             .map(|p| (p.x, p.y))
             .collect(),
-    }
-}
-
-/// A time with a unit a person reads: ms below a second.
-fn time_text(t: f64) -> String {
-    if t < 1.0 {
-        format!("{:.1} ms", 1e3 * t)
-    } else {
-        format!("{t:.3} s")
     }
 }
 
@@ -346,15 +314,20 @@ fn advance_watching(sim: &mut Simulation, t: f64) -> Result<bool, SimError> {
 /// directory (cleaned of an earlier run's files first), write `timeseries.csv`, VTK snapshots,
 /// `width_height.png`, `particles.png` and `scene.toml`. A numerical breakdown or a stop request
 /// ends the run early and is reported in the result; the files are still written, with the last
-/// state as the final snapshot. Errors writing files name the operation and the path.
-pub fn run(cfg: &SceneConfig, opts: &RunOptions) -> Result<RunResult, Box<dyn std::error::Error>> {
+/// state as the final snapshot. Errors writing files name the operation and the path. The
+/// scene's summary of the run may quote `predictions` (models outside the solver).
+pub fn run(
+    cfg: &SceneConfig,
+    opts: &RunOptions,
+    predictions: &dyn Predictions,
+) -> Result<RunResult, Box<dyn std::error::Error>> {
     let mut sim = Simulation::new(cfg.clone())?;
-    let ts = time_scale(sim.effective_config());
+    let ts = sim.scene().time_scale(sim.effective_config());
     let n_out = (opts.t_end / opts.output_interval).round().max(1.0) as usize;
     let snap_every = (n_out / opts.snapshots.max(1)).max(1);
     let start = std::time::Instant::now();
     let mut series = vec![(0.0, sim.outputs())];
-    let mut shots = vec![snapshot(&sim, ts)];
+    let mut shots = vec![snapshot(&sim)];
     // One step first: the scheme's stable time step gives the run's length in steps, checked
     // before any file is touched. (Steps are never shortened to land on an output time, so this
     // does not change the trajectory.)
@@ -397,6 +370,10 @@ pub fn run(cfg: &SceneConfig, opts: &RunOptions) -> Result<RunResult, Box<dyn st
     };
     let mut error = first.err();
     let mut interrupted = None;
+    let reference_length = {
+        let eff = sim.effective_config();
+        sim.scene().reference_length(eff)
+    };
     sim.set_stop_flag(opts.stop.clone());
     for k in 1..=n_out {
         if error.is_some() {
@@ -419,7 +396,7 @@ pub fn run(cfg: &SceneConfig, opts: &RunOptions) -> Result<RunResult, Box<dyn st
         let o = sim.outputs();
         series.push((sim.time(), o));
         if k % snap_every == 0 {
-            shots.push(snapshot(&sim, ts));
+            shots.push(snapshot(&sim));
             if let Some(d) = &opts.out_dir {
                 write_vtk(d, k / snap_every, &sim)?;
             }
@@ -429,14 +406,14 @@ pub fn run(cfg: &SceneConfig, opts: &RunOptions) -> Result<RunResult, Box<dyn st
             b.set_message(format!(
                 "t* = {:.2}  W* = {:.3}",
                 t / ts,
-                o.drop_width / sim.effective_config().drop_diameter
+                o.shared.drop_width / reference_length
             ));
         }
     }
     if error.is_some() || interrupted.is_some() {
         // The last good state, where the cause can be looked at: one more panel of the
         // particle PNG and one more VTK snapshot.
-        let mut shot = snapshot(&sim, ts);
+        let mut shot = snapshot(&sim);
         // Short enough for one panel's width (a longer caption ran into the next panel).
         shot.title = format!(
             "t = {}, before {}",
@@ -455,6 +432,9 @@ pub fn run(cfg: &SceneConfig, opts: &RunOptions) -> Result<RunResult, Box<dyn st
     if let Some(b) = bar {
         b.finish_and_clear();
     }
+    let summary = sim
+        .scene()
+        .summary(sim.effective_config(), sim.state(), &series, predictions);
     let result = RunResult {
         series,
         error,
@@ -462,7 +442,8 @@ pub fn run(cfg: &SceneConfig, opts: &RunOptions) -> Result<RunResult, Box<dyn st
         steps: sim.state().step,
         particles: sim.state().fluid.len(),
         wall_reflections: sim.state().wall_reflections,
-        elliptical: sim.elliptical_semi_axes(),
+        summary,
+        state: sim.state().clone(),
         interrupted,
     };
     if let Some(d) = &opts.out_dir {
@@ -487,18 +468,15 @@ pub fn run(cfg: &SceneConfig, opts: &RunOptions) -> Result<RunResult, Box<dyn st
         )?;
         let (field, _) = colour_field(&sim);
         let path = d.join("particles.png");
+        let field_name = field.split(" [").next().unwrap_or(field);
         at(
             plot::particle_snapshots(
                 &path,
-                &particles_title(sim.effective_config(), field),
+                &sim.scene()
+                    .snapshot_title(sim.effective_config(), field_name),
                 &shots,
                 field,
-                // A jet is tall and narrow: one row of tall panels.
-                if sim.effective_config().scene == viscosph::config::Scene::Jet {
-                    shots.len().clamp(1, 6)
-                } else {
-                    3
-                },
+                sim.scene().snapshot_columns(shots.len()),
                 (1700, 1250),
             ),
             "write",
@@ -514,102 +492,14 @@ pub fn run(cfg: &SceneConfig, opts: &RunOptions) -> Result<RunResult, Box<dyn st
     Ok(result)
 }
 
-/// The title of `particles.png`: what is shown and the scene in a few words.
-fn particles_title(eff: &SceneConfig, field: &str) -> String {
-    let field = field.split(" [").next().unwrap_or(field);
-    match eff.scene {
-        viscosph::config::Scene::EllipticalDrop => format!(
-            "Elliptical drop ({}, {} particles across), coloured by {field}",
-            eff.scheme, eff.particles_per_diameter
-        ),
-        viscosph::config::Scene::Channel => format!(
-            "{} channel, H = {} mm, g = {} m/s2 ({}, {} across): coloured by {field}",
-            eff.rheology,
-            1e3 * eff.channel_width,
-            eff.body_force,
-            eff.scheme,
-            eff.particles_per_diameter
-        ),
-        viscosph::config::Scene::Jet => format!(
-            "{} jet, D = {} mm, U0 = {} m/s, nozzle {:.1} D above a plate at {} deg ({}, {} \
-             across): coloured by {field}",
-            eff.rheology,
-            1e3 * eff.jet_width,
-            eff.jet_velocity,
-            eff.nozzle_height / eff.jet_width,
-            eff.plate_inclination,
-            eff.scheme,
-            eff.particles_per_diameter
-        ),
-        _ => format!(
-            "{} drop, D = {} mm, V = {} m/s, plate at {} deg ({}): coloured by {field}",
-            eff.rheology,
-            1e3 * eff.drop_diameter,
-            eff.impact_velocity,
-            eff.plate_inclination,
-            eff.scheme
-        ),
-    }
-}
-
-/// W* = width/D and H* = height/D against t* = t V/D, one line per labelled series. For the
-/// elliptical drop, the scene's own scales: width and height over its initial diameter 2R,
-/// against t in ms.
+/// The scene's plot of its outputs against time (`Scene::time_plot`: W* = width/D and
+/// H* = height/D against t* = t V/D for the drops and the jet, one line per labelled series.
 pub fn plot_width_height(
     path: &Path,
     cfg: &SceneConfig,
     runs: &[(String, &[(f64, Outputs)])],
 ) -> Result<(), Box<dyn std::error::Error>> {
     plot_width_height_marked(path, cfg, runs, None)
-}
-
-/// The channel's `width_height.png`: the centre-line velocity over the steady Newtonian one,
-/// U = rho g H^2 / (8 eta0), and the wall shear stress over rho g H / 2, against t U / H.
-fn plot_channel(
-    path: &Path,
-    cfg: &SceneConfig,
-    runs: &[(String, &[(f64, Outputs)])],
-    ended: Option<(&str, f64)>,
-) -> Result<(), Box<dyn std::error::Error>> {
-    let eff = viscosph::scene::effective_config(cfg);
-    let h = eff.channel_width;
-    let u = eff.density * eff.body_force * h * h / (8.0 * eff.viscosity);
-    let tau = 0.5 * eff.density * eff.body_force * h;
-    let ts = h / u;
-    let mk = |f: &dyn Fn(&Outputs) -> f64| {
-        runs.iter()
-            .map(|(label, s)| plot::Series {
-                label: label.clone(),
-                points: s.iter().map(|(t, o)| (t / ts, f(o))).collect(),
-            })
-            .collect::<Vec<_>>()
-    };
-    let note = match ended {
-        Some((why, t)) => format!(" ({why} at t = {})", time_text(t)),
-        None => String::new(),
-    };
-    let x_label = format!("t U / H [-]   (H/U = {})", time_text(ts));
-    plot::line_panels(
-        path,
-        &[
-            plot::Panel {
-                title: format!("centre-line velocity / U (U = {u:.3} m/s){note}"),
-                x_label: x_label.clone(),
-                y_label: "u_c / U [-]".to_string(),
-                series: mk(&|o| o.centreline_velocity / u),
-                log: (false, false),
-            },
-            plot::Panel {
-                title: format!("wall shear stress / (rho g H / 2) ({tau:.1} Pa){note}"),
-                x_label,
-                y_label: "tau_w / (rho g H / 2) [-]".to_string(),
-                series: mk(&|o| o.wall_shear_stress / tau),
-                log: (false, false),
-            },
-        ],
-        2,
-        (1400, 600),
-    )
 }
 
 /// [`plot_width_height`], with a note in the titles when the run ended early: `ended` is
@@ -620,64 +510,34 @@ pub fn plot_width_height_marked(
     runs: &[(String, &[(f64, Outputs)])],
     ended: Option<(&str, f64)>,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    if cfg.scene == viscosph::config::Scene::Channel {
-        return plot_channel(path, cfg, runs, ended);
-    }
-    let elliptical = cfg.scene == viscosph::config::Scene::EllipticalDrop;
-    let (d, ts) = if elliptical {
-        (2.0 * viscosph::scene::elliptical_drop::RADIUS, 1e-3)
-    } else {
-        (cfg.drop_diameter, time_scale(cfg))
-    };
-    let mk = |f: fn(&Outputs) -> f64| {
-        runs.iter()
-            .map(|(label, s)| plot::Series {
-                label: label.clone(),
-                points: s.iter().map(|(t, o)| (t / ts, f(o) / d)).collect(),
-            })
-            .collect::<Vec<_>>()
-    };
+    let TimePlot {
+        time_unit,
+        x_label,
+        panels,
+    } = cfg.scene_def().time_plot(cfg);
     let note = match ended {
         Some(("breakdown", t)) => format!(" (breakdown after t = {})", time_text(t)),
         Some((why, t)) => format!(" ({why} at t = {})", time_text(t)),
         None => String::new(),
     };
-    let (x_label, w_title, h_title, w_label, h_label) = if elliptical {
-        (
-            "t [ms]".to_string(),
-            "extent along x / 2R (R = 1 m)".to_string(),
-            "extent along y / 2R".to_string(),
-            "width / 2R [-]".to_string(),
-            "height / 2R [-]".to_string(),
-        )
-    } else {
-        (
-            format!("t* = t V / D [-]   (D/V = {})", time_text(ts)),
-            format!("width W* = W / D (D = {} mm)", 1e3 * d),
-            format!("height H* = H / D ({} scheme)", cfg.scheme),
-            "W* [-]".to_string(),
-            "H* [-]".to_string(),
-        )
-    };
-    plot::line_panels(
-        path,
-        &[
-            plot::Panel {
-                title: w_title + &note,
-                x_label: x_label.clone(),
-                y_label: w_label,
-                series: mk(|o| o.drop_width),
-                log: (false, false),
-            },
-            plot::Panel {
-                title: h_title + &note,
-                x_label,
-                y_label: h_label,
-                series: mk(|o| o.drop_height),
-                log: (false, false),
-            },
-        ],
-        2,
-        (1400, 600),
-    )
+    let panels: Vec<plot::Panel> = panels
+        .into_iter()
+        .map(|p| plot::Panel {
+            title: p.title + &note,
+            x_label: x_label.clone(),
+            y_label: p.y_label,
+            series: runs
+                .iter()
+                .map(|(label, s)| plot::Series {
+                    label: label.clone(),
+                    points: s
+                        .iter()
+                        .map(|(t, o)| (t / time_unit, (p.value)(o)))
+                        .collect(),
+                })
+                .collect(),
+            log: (false, false),
+        })
+        .collect();
+    plot::line_panels(path, &panels, 2, (1400, 600))
 }

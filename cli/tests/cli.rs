@@ -50,7 +50,7 @@ fn default_scene_round_trips() {
     let out = viscosph().arg("default-scene").output().unwrap();
     assert!(out.status.success());
     let text = String::from_utf8(out.stdout).unwrap();
-    for p in viscosph::config::PARAMS {
+    for p in viscosph::scene::PARAMS.iter() {
         assert!(
             text.contains(&format!("{} = ", p.name)),
             "missing {}",
@@ -171,7 +171,7 @@ fn the_automatic_sound_speed_is_printed_and_recorded() {
     );
     let scene = std::fs::read_to_string(out_dir.join("scene.toml")).unwrap();
     let rerun = viscosph::SceneConfig::from_toml_str(&scene).unwrap();
-    assert!((rerun.sound_speed - c).abs() < 1e-9, "{scene}");
+    assert!((rerun.numerics.sound_speed - c).abs() < 1e-9, "{scene}");
 }
 
 #[test]

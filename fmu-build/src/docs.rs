@@ -2,12 +2,13 @@
 //! entry point), generated from the same tables as `modelDescription.xml`, so every variable,
 //! unit, default and range shown is the one the binary enforces.
 
-use viscosph::config::{name_variables, range_text, Kind, SceneConfig, Value, PARAMS};
-use viscosph::diagnostics::OUTPUTS;
+use viscosph::config::{range_text, Kind, Value};
 use viscosph::fmi2::model_description::{
     escape, name_variable_description, name_variable_start, parameter_description,
     DEFAULT_STEP_SIZE, DEFAULT_STOP_TIME, LOG_CATEGORIES,
 };
+use viscosph::scene::OUTPUTS;
+use viscosph::scene::{name_variables, SceneConfig, PARAMS};
 use viscosph::Simulation;
 
 /// Whether the default scene with `name` set to `item` can be built now, and if not, why.
@@ -104,7 +105,7 @@ pub fn index_html(platforms: &[&str]) -> String {
         "<table><tr><th>name</th><th>vr</th><th>type</th><th>unit</th><th>default</th>\
          <th>allowed</th><th>description</th></tr>\n",
     );
-    for p in PARAMS {
+    for p in PARAMS.iter() {
         h.push_str(&format!(
             "<tr><td><code>{}</code></td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
             escape(p.name),
@@ -128,7 +129,7 @@ pub fn index_html(platforms: &[&str]) -> String {
     h.push_str("</table>\n");
 
     h.push_str("<h3>Enumeration items</h3>\n");
-    for p in PARAMS {
+    for p in PARAMS.iter() {
         if let Kind::Enumeration {
             type_name, items, ..
         } = p.kind
@@ -161,7 +162,7 @@ pub fn index_html(platforms: &[&str]) -> String {
          last good state.</p>\n<table><tr><th>name</th><th>vr</th><th>unit</th>\
          <th>description</th></tr>\n",
     );
-    for o in OUTPUTS {
+    for o in OUTPUTS.iter() {
         h.push_str(&format!(
             "<tr><td><code>{}</code></td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
             escape(o.name),
@@ -267,7 +268,7 @@ mod tests {
     #[test]
     fn every_variable_unit_and_default_is_documented() {
         let html = index_html(&["linux64", "win64"]);
-        for p in PARAMS {
+        for p in PARAMS.iter() {
             assert!(
                 html.contains(&format!("<code>{}</code>", p.name)),
                 "{}",
@@ -282,7 +283,7 @@ mod tests {
                 );
             }
         }
-        for o in OUTPUTS {
+        for o in OUTPUTS.iter() {
             assert!(
                 html.contains(&format!("<code>{}</code>", o.name)),
                 "{}",

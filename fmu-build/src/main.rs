@@ -87,7 +87,7 @@ fn run() -> Result<(), String> {
     let committed = fs::read_to_string(&committed_path).unwrap_or_default();
     if committed != xml {
         return Err(format!(
-            "{} differs from the interface generated from src/config.rs and src/diagnostics.rs; \
+            "{} differs from the interface generated from the parameter and output tables (src/config/, src/scene/); \
              run `cargo run --release -p fmu-build -- --write-model-description` and commit it",
             committed_path.display()
         ));

@@ -1,14 +1,16 @@
 //! FMI 2.0 Co-Simulation layer: the solver as `ViscoSPH.fmu` (issue 3).
 //!
 //! A thin translator over the same [`Simulation`](crate::simulation::Simulation) and the same
-//! parameter validation ([`SceneConfig::set`](crate::config::SceneConfig::set) /
-//! [`validate`](crate::config::SceneConfig::validate)) the CLI uses:
+//! parameter validation ([`SceneConfig::set`](crate::scene::SceneConfig::set) /
+//! [`validate`](crate::scene::SceneConfig::validate)) the CLI uses:
 //!
 //! - [`model_description`] generates `modelDescription.xml` from the parameter and output
 //!   tables, and the GUID that ties the XML to the binary;
-//! - [`instance`] is the Co-Simulation state machine (safe Rust, unit-tested in-process);
+//! - [`instance`] is the Co-Simulation state machine (safe Rust, unit-tested in-process; its
+//!   variables and FMU states in their own files);
 //! - `exports` holds the 44 `extern "C"` functions of `fmi2Functions.h`: pointer checks,
-//!   `catch_unwind`, and a call into [`instance::Instance`];
+//!   `catch_unwind`, and a call into [`instance::Instance`] (the FMU-state and the unsupported
+//!   ones in their own files);
 //! - [`types`] are the C types of the FMI 2.0 headers.
 //!
 //! No global mutable state: everything lives in the instance, so several instances in one

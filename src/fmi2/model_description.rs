@@ -1,5 +1,5 @@
 //! `modelDescription.xml`, generated from the parameter table [`PARAMS`] and the output table
-//! [`OUTPUTS`], so that the FMU's interface and the solver cannot drift apart.
+//! [`OUTPUTS`] (each in value-reference order), so that the FMU's interface and the solver cannot drift apart.
 //!
 //! The committed `modelDescription/modelDescription.xml` is the output of
 //! [`model_description_xml`]; `tests/fmu_model_description.rs` fails when the two differ, and
@@ -12,8 +12,8 @@
 //! (FMI 2.0 section 2.2): CoSimulation, UnitDefinitions, TypeDefinitions, LogCategories,
 //! DefaultExperiment, ModelVariables, ModelStructure.
 
-use crate::config::{name_variables, range_text, Kind, ParamSpec, PARAMS};
-use crate::diagnostics::OUTPUTS;
+use crate::config::{range_text, Kind, ParamSpec};
+use crate::scene::{input_rows, name_variables, OUTPUTS, PARAMS};
 use std::fmt::Write;
 
 /// The FMI model identifier: the name of the shared library inside the FMU
@@ -230,7 +230,7 @@ fn document_without_guid() -> String {
     let _ = writeln!(w, "  </UnitDefinitions>");
 
     let _ = writeln!(w, "  <TypeDefinitions>");
-    for p in PARAMS {
+    for p in PARAMS.iter() {
         if let Kind::Enumeration {
             type_name, items, ..
         } = p.kind
@@ -318,7 +318,7 @@ fn document_without_guid() -> String {
         let _ = writeln!(w, "    </ScalarVariable>");
     }
     let first_output = index + 1;
-    for o in OUTPUTS {
+    for o in OUTPUTS.iter() {
         index += 1;
         let _ = writeln!(w, "    <!-- index {index} -->");
         let _ = writeln!(
@@ -354,10 +354,10 @@ fn document_without_guid() -> String {
         );
         let _ = writeln!(w, "    </ScalarVariable>");
     }
-    // The inputs, last for the same reason. FMI 2.0 section 2.2.7: an input has a start value
-    // and no `initial` attribute; continuous, because a master may change it at every
-    // communication point.
-    for p in PARAMS.iter().filter(|p| p.is_input()) {
+    // The inputs, last for the same reason, in declaration order (the shared plate's first,
+    // then each scene's). FMI 2.0 section 2.2.7: an input has a start value and no `initial`
+    // attribute; continuous, because a master may change it at every communication point.
+    for p in input_rows() {
         index += 1;
         let Kind::Real {
             default, min, max, ..

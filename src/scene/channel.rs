@@ -18,15 +18,37 @@
 //! body force on the fluid between the wall rows, rho g H (n - 1) / (2 n): the half cells next to
 //! the wall lines belong to the wall particles (isph: rho g H / 2, the fluid fills the width).
 
-use super::Scene;
+use super::{time_text, Outputs, Predictions, Scene, SceneConfig, SceneType};
+use super::{TimePlot, TimePlotPanel};
 use crate::boundary::plate::Plate;
-use crate::config::{ConfigError, SceneConfig, SchemeKind};
-use crate::diagnostics::Outputs;
+use crate::config::{real, real_pos, ConfigError};
+use crate::diagnostics::SharedOutputs;
 use crate::neighbors::Domain;
 use crate::particles::Fluid;
 use crate::state::State;
 use crate::{Mat2, Vec2};
 use nalgebra::{Matrix3, Vector3};
+
+crate::params! {
+    /// The channel: its width, its period and the force that drives it.
+    pub struct ChannelParams {
+        channel_width: f64 = real_pos(0.02, 100.0), vr 41, unit "m";
+            "Channel scene: distance H between the two walls; particles_per_diameter counts particles across it",
+        channel_length: f64 = real(0.0, 0.0, 1000.0), vr 42, unit "m";
+            "Channel scene: period along the flow (rounded to whole particle spacings); 0 = channel_width",
+        body_force: f64 = real(80.0, 0.0, 1.0e6), vr 43, unit "m/s2";
+            "Channel scene: body force per unit mass along the channel, switched on at t = 0 (gravity is off in the channel)",
+    }
+}
+
+crate::outputs! {
+    /// The channel's own outputs (see the module documentation).
+    pub struct ChannelOutputs {
+        centreline_velocity: vr 114, unit "m/s"; "Channel: flow velocity on the centre line (0 in other scenes)",
+        flow_rate: vr 115, unit "m2/s"; "Channel: volume flow rate per unit depth (0 in other scenes)",
+        wall_shear_stress: vr 116, unit "Pa"; "Channel: shear stress of the fluid on the walls, mean of both, positive along the flow (0 in other scenes)",
+    }
+}
 
 /// Fewest particle spacings along the period: the nearest-image neighbour search needs the
 /// period to exceed twice the search radius (3.4 dx for the cubic spline at h = 1.5 dx).
@@ -37,10 +59,11 @@ pub struct Channel;
 
 /// Number of particle spacings along the period.
 pub fn columns(cfg: &SceneConfig) -> i64 {
-    let l = if cfg.channel_length > 0.0 {
-        cfg.channel_length
+    let ch = &cfg.channel;
+    let l = if ch.channel_length > 0.0 {
+        ch.channel_length
     } else {
-        cfg.channel_width
+        ch.channel_width
     };
     (l / cfg.dx()).round() as i64
 }
@@ -50,67 +73,107 @@ pub fn period(cfg: &SceneConfig) -> f64 {
     columns(cfg) as f64 * cfg.dx()
 }
 
+/// The steady Newtonian centre-line velocity U = rho g H^2 / (8 eta0) [m/s].
+pub fn steady_velocity(cfg: &SceneConfig) -> f64 {
+    cfg.fluid.density * cfg.channel.body_force * cfg.channel.channel_width.powi(2)
+        / (8.0 * cfg.fluid.viscosity)
+}
+
+/// The steady wall shear stress rho g H / 2 [Pa].
+pub fn steady_wall_shear_stress(cfg: &SceneConfig) -> f64 {
+    0.5 * cfg.fluid.density * cfg.channel.body_force * cfg.channel.channel_width
+}
+
+impl SceneType for Channel {
+    const NAME: &'static str = "channel";
+    const DESCRIPTION: &'static str = "start-up of plane Poiseuille flow between two walls, periodic along the flow (Waters & King 1970)";
+    type Params = ChannelParams;
+    type Outputs = ChannelOutputs;
+}
+
 impl Scene for Channel {
+    /// The width H.
+    fn reference_length(&self, cfg: &SceneConfig) -> f64 {
+        cfg.channel.channel_width
+    }
+
+    /// The steady Newtonian centre-line speed U = rho g H^2 / (8 eta0); an elastic start-up
+    /// overshoots it (Waters & King 1970: 2.85 U at Re = Wi = 1, more when Wi/Re is large), so
+    /// elastic models get 3 U. Strongly elastic channels (Wi/Re well above 1) should set
+    /// sound_speed themselves.
+    fn max_expected_speed(&self, cfg: &SceneConfig) -> f64 {
+        let u = steady_velocity(cfg);
+        let elastic = !cfg.fluid.is_inelastic();
+        (if elastic { 3.0 * u } else { u }).max(1e-3)
+    }
+
+    /// The fluid and the two walls' particles.
+    fn estimated_particles(&self, cfg: &SceneConfig) -> f64 {
+        let ch = &cfg.channel;
+        let ppd = cfg.numerics.particles_per_diameter as f64;
+        let along = (ch.channel_length.max(ch.channel_width) / ch.channel_width) * ppd;
+        ppd * along + 10.0 * along
+    }
+
     fn validate(&self, cfg: &SceneConfig) -> Result<(), ConfigError> {
         let n = columns(cfg);
-        if n < MIN_COLUMNS.max((4.5 * cfg.smoothing_ratio).ceil() as i64 + 1) {
+        let least = MIN_COLUMNS.max((4.5 * cfg.numerics.smoothing_ratio).ceil() as i64 + 1);
+        if n < least {
             return Err(ConfigError::Inconsistent(format!(
                 "channel_length = {} m is {n} particle spacings: the periodic channel needs at \
-                 least {} (raise channel_length or particles_per_diameter)",
-                cfg.channel_length,
-                MIN_COLUMNS.max((4.5 * cfg.smoothing_ratio).ceil() as i64 + 1)
+                 least {least} (raise channel_length or particles_per_diameter)",
+                cfg.channel.channel_length,
             )));
         }
         Ok(())
     }
 
-    /// The width sets the lattice (dx = channel_width / particles_per_diameter); gravity, the
-    /// impact velocity and the plate inclination do not apply.
+    /// Gravity is off (the body force drives the flow), and so is Monaghan's artificial
+    /// viscosity: there are no shocks to capture, and it acts on the approaching pairs of any
+    /// shear flow (Fang 2006 eq. 31), adding a viscosity of order alpha h c / 8, a quarter of
+    /// the physical one at Fang's alpha = 1 and c = 12.5 m/s (measured: the Newtonian centre
+    /// line at 0.80 U).
     fn effective_config(&self, cfg: &SceneConfig) -> SceneConfig {
         let mut e = cfg.clone();
-        e.drop_diameter = cfg.channel_width;
-        e.drop_height = cfg.channel_width;
-        e.gravity = 0.0;
-        e.impact_velocity = 0.0;
-        e.plate_inclination = 0.0;
-        // No shocks to capture: Monaghan's artificial viscosity (Fang 2006 eq. 31) acts on the
-        // approaching pairs of any shear flow and would add a viscosity of order alpha h c / 8,
-        // a quarter of the physical one at Fang's alpha = 1 and c = 12.5 m/s (measured: the
-        // Newtonian centre line at 0.80 U).
-        e.artificial_viscosity_alpha = 0.0;
-        e.artificial_viscosity_beta = 0.0;
+        e.fluid.gravity = 0.0;
+        e.numerics.artificial_viscosity_alpha = 0.0;
+        e.numerics.artificial_viscosity_beta = 0.0;
         e
+    }
+
+    /// Closed by its walls and periodic along the flow.
+    fn has_free_surface(&self) -> bool {
+        false
     }
 
     fn build(&self, cfg: &SceneConfig, rest: Option<Mat2>) -> (Fluid, Vec<Plate>) {
         let dx = cfg.dx();
-        let (n, m) = (cfg.particles_per_diameter, columns(cfg));
+        let (n, m) = (cfg.numerics.particles_per_diameter, columns(cfg));
         let mut fluid = Fluid {
-            mass: cfg.density * dx * dx,
+            mass: cfg.fluid.density * dx * dx,
             ..Default::default()
         };
         // Wall particles (wcsph, pdri) sit on the wall lines, so the fluid rows are at j dx,
         // j = 1 .. n-1. Mirrors (isph) reflect the fluid itself: rows at (j + 1/2) dx,
         // j = 0 .. n-1, put the first mirror row dx below the first fluid row, as in the bulk.
         // (Rows at j dx left a gap of 2 dx at each wall: measured, the Newtonian Lagrangian
-        // centre line settled 10 % high at 30 across.)
-        let rows: Vec<f64> = if cfg.scheme == SchemeKind::Isph {
-            (0..n).map(|j| (j as f64 + 0.5) * dx).collect()
-        } else {
-            (1..n).map(|j| j as f64 * dx).collect()
-        };
-        for y in rows {
+        // centre line settled 10 % high at 30 across.) The scheme says which
+        // (`SchemeKind::wall_lattice_offset`).
+        let offset = cfg.scheme.wall_lattice_offset();
+        let rows = (n as f64 + 1.0 - 2.0 * offset).round() as i64;
+        for j in 0..rows {
+            let y = (j as f64 + offset) * dx;
             for i in 0..m {
                 fluid.x.push(Vec2::new((i as f64 + 0.5) * dx, y));
             }
         }
         let count = fluid.x.len();
         fluid.v = vec![Vec2::zeros(); count];
-        fluid.rho = vec![cfg.density; count];
+        fluid.rho = vec![cfg.fluid.density; count];
         if let Some(a0) = rest {
             fluid.conf = vec![a0; count];
         }
-        let h = cfg.channel_width;
+        let h = cfg.channel.channel_width;
         let bottom = Plate::spanning(Vec2::zeros(), Vec2::new(1.0, 0.0), dx, 0, m - 1);
         // The upper wall faces down: tangent -x, normal -y; its columns at s = -k dx sit at
         // x = k dx, k = 0 .. m-1.
@@ -129,28 +192,30 @@ impl Scene for Channel {
     }
 
     fn domain_radius(&self, cfg: &SceneConfig) -> f64 {
-        1000.0 * (cfg.channel_width + period(cfg))
+        1000.0 * (cfg.channel.channel_width + period(cfg))
     }
 
     fn body_force(&self, cfg: &SceneConfig) -> Vec2 {
-        Vec2::new(cfg.body_force, 0.0)
+        Vec2::new(cfg.channel.body_force, 0.0)
     }
 
     /// The steady Newtonian centre-line velocity rho g H^2 / (8 eta0).
     fn velocity_scale(&self, cfg: &SceneConfig) -> f64 {
-        (cfg.density * cfg.body_force * cfg.channel_width.powi(2) / (8.0 * cfg.viscosity))
-            .max(1e-12)
+        steady_velocity(cfg).max(1e-12)
     }
 
     /// H / U (King & Lind's time unit, with H = U = 1).
     fn time_scale(&self, cfg: &SceneConfig) -> f64 {
-        cfg.channel_width / self.velocity_scale(cfg)
+        cfg.channel.channel_width / self.velocity_scale(cfg)
     }
 
+    /// The health figures of the shared outputs (not the drop's extents, nor the plate's: both
+    /// walls carry the force) and the channel's own three. The volume error is sum(m / rho)'s
+    /// under every scheme: the closed channel keeps it.
     fn outputs(&self, st: &State, cfg: &SceneConfig) -> Outputs {
-        let full = Outputs::compute(st, cfg.dx(), cfg.density);
+        let full = SharedOutputs::compute(st, cfg.dx(), cfg.fluid.density);
         let fl = &st.fluid;
-        let (h, l, dx) = (cfg.channel_width, period(cfg), cfg.dx());
+        let (h, l, dx) = (cfg.channel.channel_width, period(cfg), cfg.dx());
         let flow: f64 =
             fl.v.iter()
                 .zip(&fl.rho)
@@ -158,18 +223,82 @@ impl Scene for Channel {
                 .sum::<f64>()
                 / l;
         Outputs {
-            kinetic_energy: full.kinetic_energy,
-            volume_error: full.volume_error,
-            max_conformation_trace: full.max_conformation_trace,
-            min_conformation_det: full.min_conformation_det,
-            time_step: full.time_step,
-            particle_count: full.particle_count,
-            void_fraction: full.void_fraction,
-            centreline_velocity: centreline_velocity(fl, h, dx),
-            flow_rate: flow,
-            wall_shear_stress: st.wall_force.x / (2.0 * l),
+            shared: SharedOutputs {
+                kinetic_energy: full.kinetic_energy,
+                volume_error: full.volume_error,
+                max_conformation_trace: full.max_conformation_trace,
+                min_conformation_det: full.min_conformation_det,
+                time_step: full.time_step,
+                particle_count: full.particle_count,
+                void_fraction: full.void_fraction,
+                ..Default::default()
+            },
+            channel: ChannelOutputs {
+                centreline_velocity: centreline_velocity(fl, h, dx),
+                flow_rate: flow,
+                wall_shear_stress: st.wall_force.x / (2.0 * l),
+            },
             ..Default::default()
         }
+    }
+
+    /// The centre-line velocity over the steady Newtonian one, U = rho g H^2 / (8 eta0), and
+    /// the wall shear stress over rho g H / 2, against t U / H.
+    fn time_plot(&self, cfg: &SceneConfig) -> TimePlot {
+        let u = steady_velocity(cfg);
+        let tau = steady_wall_shear_stress(cfg);
+        let ts = cfg.channel.channel_width / u;
+        TimePlot {
+            time_unit: ts,
+            x_label: format!("t U / H [-]   (H/U = {})", time_text(ts)),
+            panels: vec![
+                TimePlotPanel {
+                    title: format!("centre-line velocity / U (U = {u:.3} m/s)"),
+                    y_label: "u_c / U [-]".to_string(),
+                    value: Box::new(move |o| o.channel.centreline_velocity / u),
+                },
+                TimePlotPanel {
+                    title: format!("wall shear stress / (rho g H / 2) ({tau:.1} Pa)"),
+                    y_label: "tau_w / (rho g H / 2) [-]".to_string(),
+                    value: Box::new(move |o| o.channel.wall_shear_stress / tau),
+                },
+            ],
+        }
+    }
+
+    /// Where the start-up got to: the centre-line velocity and the wall shear stress at the
+    /// end, against their steady Newtonian values.
+    fn summary(
+        &self,
+        cfg: &SceneConfig,
+        _st: &State,
+        series: &[(f64, Outputs)],
+        _predictions: &dyn Predictions,
+    ) -> Vec<String> {
+        let Some((t, o)) = series.last() else {
+            return Vec::new();
+        };
+        let (u, tau) = (steady_velocity(cfg), steady_wall_shear_stress(cfg));
+        let c = &o.channel;
+        vec![format!(
+            "channel at t = {t:.6} s: centre-line velocity {:.4e} m/s = {:.4} U (U = rho g H^2 / \
+             (8 eta0) = {u:.4e} m/s), wall shear stress {:.4e} Pa = {:.4} rho g H / 2",
+            c.centreline_velocity,
+            c.centreline_velocity / u,
+            c.wall_shear_stress,
+            c.wall_shear_stress / tau
+        )]
+    }
+
+    fn snapshot_title(&self, cfg: &SceneConfig, field: &str) -> String {
+        format!(
+            "{} channel, H = {} mm, g = {} m/s2 ({}, {} across): coloured by {field}",
+            cfg.fluid.rheology,
+            1e3 * cfg.channel.channel_width,
+            cfg.channel.body_force,
+            cfg.scheme,
+            cfg.numerics.particles_per_diameter
+        )
     }
 }
 
@@ -201,11 +330,11 @@ mod tests {
     #[test]
     fn lattice_and_walls_span_one_period() {
         let mut c = SceneConfig {
-            scene: crate::config::Scene::Channel,
-            particles_per_diameter: 10,
-            channel_length: 0.0152, // 7.6 spacings of 2 mm: rounds to 8
+            scene: crate::scene::SceneKind::Channel,
             ..Default::default()
         };
+        c.numerics.particles_per_diameter = 10;
+        c.channel.channel_length = 0.0152; // 7.6 spacings of 2 mm: rounds to 8
         let e = Channel.effective_config(&c);
         assert_eq!(columns(&e), 8);
         assert!((period(&e) - 0.016).abs() < 1e-15);
@@ -228,7 +357,7 @@ mod tests {
             }
         }
         assert!((walls[1].d(&Vec2::new(0.3, 0.015)) - 0.005).abs() < 1e-15);
-        c.channel_length = 0.01;
+        c.channel.channel_length = 0.01;
         assert!(Channel.validate(&Channel.effective_config(&c)).is_err());
     }
 
@@ -236,12 +365,12 @@ mod tests {
     fn isph_lattice_fills_the_width_for_the_mirror_walls() {
         // Mirrors reflect the fluid across y = 0 and y = H: the first fluid row half a spacing
         // from the wall puts the first mirror row one spacing below it, as in the bulk.
-        let c = SceneConfig {
-            scene: crate::config::Scene::Channel,
-            scheme: SchemeKind::Isph,
-            particles_per_diameter: 10,
+        let mut c = SceneConfig {
+            scene: crate::scene::SceneKind::Channel,
+            scheme: crate::scene::SchemeKind::Isph,
             ..Default::default()
         };
+        c.numerics.particles_per_diameter = 10;
         let e = Channel.effective_config(&c);
         let dx = e.dx();
         let (f, _) = Channel.build(&e, None);

@@ -1,11 +1,24 @@
 //! The drop impact of Fang 2006 section 4: a disc cut from a Cartesian lattice, moving
 //! vertically down at the impact velocity towards a rigid plate.
 
-use super::Scene;
+use super::{Scene, SceneConfig, SceneType};
 use crate::boundary::plate::Plate;
-use crate::config::{ConfigError, SceneConfig};
+use crate::config::{real, real_pos, ConfigError};
+use crate::diagnostics::NoOutputs;
 use crate::particles::Fluid;
 use crate::{Mat2, Vec2};
+
+crate::params! {
+    /// The drop: its size, where it starts and how fast.
+    pub struct DropParams {
+        impact_velocity: f64 = real(1.0, 0.0, 100.0), vr 5, unit "m/s";
+            "Initial speed of the drop, vertically down",
+        drop_diameter: f64 = real_pos(0.02, 10.0), vr 6, unit "m";
+            "Diameter of the initial (circular) drop",
+        initial_drop_height: f64 = real_pos(0.04, 100.0), vr 7, unit "m", alias "drop_height";
+            "Height of the drop centre above the impact point at t = 0, measured vertically (scene files may also call it drop_height)",
+    }
+}
 
 /// Build the fluid of a drop: lattice points (i + 1/2) dx, (j + 1/2) dx about the drop centre in
 /// the plate's frame (so the lattice lines up with the wall particles at any inclination, and the
@@ -15,13 +28,13 @@ use crate::{Mat2, Vec2};
 /// without a conformation tensor: the drop starts stress-free, as Fang's does.
 pub fn build(cfg: &SceneConfig, rest: Option<Mat2>) -> (Fluid, Plate) {
     let dx = cfg.dx();
-    let plate = Plate::new(cfg.plate_inclination, dx);
-    let centre = Vec2::new(0.0, cfg.drop_height);
+    let plate = Plate::new(cfg.plate.plate_inclination, dx);
+    let centre = Vec2::new(0.0, cfg.drop.initial_drop_height);
     let (sc, dc) = (plate.s(&centre), plate.d(&centre));
-    let r = 0.5 * cfg.drop_diameter;
-    let n = cfg.particles_per_diameter;
+    let r = 0.5 * cfg.drop.drop_diameter;
+    let n = cfg.numerics.particles_per_diameter;
     let mut fluid = Fluid {
-        mass: cfg.density * dx * dx,
+        mass: cfg.fluid.density * dx * dx,
         ..Default::default()
     };
     for j in -n..n {
@@ -32,9 +45,9 @@ pub fn build(cfg: &SceneConfig, rest: Option<Mat2>) -> (Fluid, Plate) {
             }
         }
     }
-    let v0 = Vec2::new(0.0, -cfg.impact_velocity);
+    let v0 = Vec2::new(0.0, -cfg.drop.impact_velocity);
     fluid.v = vec![v0; fluid.x.len()];
-    fluid.rho = vec![cfg.density; fluid.x.len()];
+    fluid.rho = vec![cfg.fluid.density; fluid.x.len()];
     if let Some(a0) = rest {
         fluid.conf = vec![a0; fluid.x.len()];
     }
@@ -44,22 +57,56 @@ pub fn build(cfg: &SceneConfig, rest: Option<Mat2>) -> (Fluid, Plate) {
 /// The drop impact scene (see the module documentation).
 pub struct Drop;
 
+impl SceneType for Drop {
+    const NAME: &'static str = "drop";
+    const DESCRIPTION: &'static str = "2D drop falling onto a straight rigid plate";
+    type Params = DropParams;
+    type Outputs = NoOutputs;
+}
+
 impl Scene for Drop {
     fn has_moving_plate(&self) -> bool {
         true
     }
 
+    /// The drop's diameter D.
+    fn reference_length(&self, cfg: &SceneConfig) -> f64 {
+        cfg.drop.drop_diameter
+    }
+
+    /// The impact speed plus the free fall from the initial height until the drop's lowest
+    /// point touches the plate, sqrt(V^2 + 2 g h_fall). A drop that spreads or slides
+    /// afterwards does not speed up much beyond it (viscosity and the plate take energy out).
+    fn max_expected_speed(&self, cfg: &SceneConfig) -> f64 {
+        let d = &cfg.drop;
+        let theta = cfg.plate.plate_inclination.to_radians();
+        let fall = (d.initial_drop_height - 0.5 * d.drop_diameter / theta.cos()).max(0.0);
+        let v = d.impact_velocity;
+        (v * v + 2.0 * cfg.fluid.gravity * fall).sqrt().max(1e-3)
+    }
+
+    /// The fluid and the plate's wall particles (four rows, twenty diameters long).
+    fn estimated_particles(&self, cfg: &SceneConfig) -> f64 {
+        let ppd = cfg.numerics.particles_per_diameter as f64;
+        std::f64::consts::FRAC_PI_4 * ppd * ppd + 4.0 * ppd * 20.0
+    }
+
+    fn domain_radius(&self, cfg: &SceneConfig) -> f64 {
+        1000.0 * cfg.drop.drop_diameter + 10.0 * cfg.drop.initial_drop_height
+    }
+
     fn validate(&self, cfg: &SceneConfig) -> Result<(), ConfigError> {
-        let theta = cfg.plate_inclination.to_radians();
-        let normal_gap = cfg.drop_height * theta.cos() - 0.5 * cfg.drop_diameter;
+        let (d, plate) = (&cfg.drop, &cfg.plate);
+        let theta = plate.plate_inclination.to_radians();
+        let normal_gap = d.initial_drop_height * theta.cos() - 0.5 * d.drop_diameter;
         if normal_gap < cfg.dx() {
             return Err(ConfigError::Inconsistent(format!(
                 "initial_drop_height = {} m puts the drop (diameter {} m) within one particle spacing of \
                  the plate inclined at {} deg: its centre must be at least {:.6} m above the impact point",
-                cfg.drop_height,
-                cfg.drop_diameter,
-                cfg.plate_inclination,
-                (0.5 * cfg.drop_diameter + cfg.dx()) / theta.cos()
+                d.initial_drop_height,
+                d.drop_diameter,
+                plate.plate_inclination,
+                (0.5 * d.drop_diameter + cfg.dx()) / theta.cos()
             )));
         }
         Ok(())
@@ -72,16 +119,27 @@ impl Scene for Drop {
 
     /// The impact velocity (sqrt(g D) if the drop is released at rest).
     fn velocity_scale(&self, cfg: &SceneConfig) -> f64 {
-        if cfg.impact_velocity > 0.0 {
-            cfg.impact_velocity
+        if cfg.drop.impact_velocity > 0.0 {
+            cfg.drop.impact_velocity
         } else {
-            (cfg.gravity * cfg.drop_diameter).sqrt().max(1e-12)
+            (cfg.fluid.gravity * cfg.drop.drop_diameter).sqrt().max(1e-12)
         }
     }
 
     /// D / V, Fang 2006's t*.
     fn time_scale(&self, cfg: &SceneConfig) -> f64 {
-        cfg.drop_diameter / self.velocity_scale(cfg)
+        cfg.drop.drop_diameter / self.velocity_scale(cfg)
+    }
+
+    fn snapshot_title(&self, cfg: &SceneConfig, field: &str) -> String {
+        format!(
+            "{} drop, D = {} mm, V = {} m/s, plate at {} deg ({}): coloured by {field}",
+            cfg.fluid.rheology,
+            1e3 * cfg.drop.drop_diameter,
+            cfg.drop.impact_velocity,
+            cfg.plate.plate_inclination,
+            cfg.scheme
+        )
     }
 }
 
@@ -91,10 +149,8 @@ mod tests {
 
     #[test]
     fn drop_inside_plate_is_refused() {
-        let c = SceneConfig {
-            drop_height: 0.01,
-            ..Default::default()
-        };
+        let mut c = SceneConfig::default();
+        c.drop.initial_drop_height = 0.01;
         let e = Drop.validate(&c).unwrap_err().to_string();
         assert!(e.contains("drop_height"), "{e}");
         assert!(Drop.validate(&SceneConfig::default()).is_ok());

@@ -19,9 +19,12 @@
 //! the semi-axes exactly at t = 0, and stay on them in the exact flow (the flow is linear, so the
 //! material point at the tip stays at the tip).
 
-use crate::config::{ArtificialStressKind, RheologyKind, SceneConfig};
-use crate::eos::Eos;
+use super::{time_text, Outputs, Predictions, Scene, SceneConfig, SceneType};
+use super::{TimePlot, TimePlotPanel};
+use crate::config::{ArtificialStressKind, NoParams, RheologyKind};
+use crate::diagnostics::NoOutputs;
 use crate::particles::Fluid;
+use crate::state::State;
 use crate::Vec2;
 
 /// Radius of the initial circle \[m\].
@@ -42,31 +45,41 @@ pub const TIME_SCALE: f64 = T_END / 8.0;
 /// Velocity scale A0 R \[m/s\] (the initial speed at the rim).
 pub const VELOCITY_SCALE: f64 = A0 * RADIUS;
 
-/// The configuration the solver actually runs for this scene. Taken from `cfg`: `scheme`,
-/// `particles_per_diameter` (the lattice across the 2 m diameter), `smoothing_ratio`,
-/// `time_step_factor`, `equation_of_state` and `density_reinit_interval` (PDRI). Everything else
-/// is the scene's own: `drop_diameter` = 2R, `density`, `viscosity`, `rheology` = newtonian,
-/// `sound_speed`, `gravity` = 0, `impact_velocity` = 0, the artificial viscosity and stress
-/// switched off, and no fracture check (`fracture_void_fraction` = 0): the void fraction is
-/// measured on cells of 2 dx, and by t = 0.008 s the lattice rows are stretched to twice their
-/// spacing, so the gaps between intact rows would count as holes.
+/// The parameters the scene takes from the configuration: `scheme`, `particles_per_diameter`
+/// (the lattice across the 2 m diameter), `smoothing_ratio`, `time_step_factor`,
+/// `equation_of_state` and `density_reinit_interval` (PDRI). Everything else is the scene's own
+/// ([`effective_config`]).
+pub const TAKEN: &[&str] = &[
+    "scene",
+    "scheme",
+    "particles_per_diameter",
+    "smoothing_ratio",
+    "time_step_factor",
+    "equation_of_state",
+    "density_reinit_interval",
+];
+
+/// The configuration the solver actually runs for this scene: the parameters of [`TAKEN`]
+/// from `cfg`, and the scene's own `density`, `viscosity`, `rheology` = newtonian,
+/// `sound_speed`, `gravity` = 0, the artificial viscosity and stress switched off, and no
+/// fracture check (`fracture_void_fraction` = 0): the void fraction is measured on cells of
+/// 2 dx, and by t = 0.008 s the lattice rows are stretched to twice their spacing, so the gaps
+/// between intact rows would count as holes.
 pub fn effective_config(cfg: &SceneConfig) -> SceneConfig {
     let mut e = cfg.clone();
-    e.drop_diameter = 2.0 * RADIUS;
-    e.drop_height = 2.0 * RADIUS;
-    e.density = DENSITY;
-    e.viscosity = VISCOSITY;
-    e.rheology = RheologyKind::Newtonian;
-    e.sound_speed = SOUND_SPEED;
-    e.gravity = 0.0;
-    e.impact_velocity = 0.0;
-    e.plate_inclination = 0.0;
-    e.artificial_viscosity_alpha = 0.0;
-    e.artificial_viscosity_beta = 0.0;
-    e.artificial_stress_kind = ArtificialStressKind::Fang;
-    e.artificial_stress_epsilon = 0.0;
-    e.artificial_stress_b = 0.0;
-    e.fracture_void_fraction = 0.0;
+    let f = &mut e.fluid;
+    f.density = DENSITY;
+    f.viscosity = VISCOSITY;
+    f.rheology = RheologyKind::Newtonian;
+    f.gravity = 0.0;
+    let n = &mut e.numerics;
+    n.sound_speed = SOUND_SPEED;
+    n.artificial_viscosity_alpha = 0.0;
+    n.artificial_viscosity_beta = 0.0;
+    n.artificial_stress_kind = ArtificialStressKind::Fang;
+    n.artificial_stress_epsilon = 0.0;
+    n.artificial_stress_b = 0.0;
+    n.fracture_void_fraction = 0.0;
     e
 }
 
@@ -75,18 +88,18 @@ pub fn effective_config(cfg: &SceneConfig) -> SceneConfig {
 /// rho0 A0^2 (R^2 - r^2) / 2 through the configured equation of state. Masses are rho0 dx^2.
 pub fn build(cfg: &SceneConfig) -> Fluid {
     let dx = cfg.dx();
-    let eos = Eos::from_config(cfg);
+    let eos = cfg.eos();
     let n = (RADIUS / dx).round() as i64 + 1;
     let r2max = (RADIUS / dx).powi(2) * (1.0 + 1e-12);
     let mut fluid = Fluid {
-        mass: cfg.density * dx * dx,
+        mass: cfg.fluid.density * dx * dx,
         ..Default::default()
     };
     for j in -n..=n {
         for i in -n..=n {
             if ((i * i + j * j) as f64) <= r2max {
                 let x = Vec2::new(i as f64 * dx, j as f64 * dx);
-                let p = 0.5 * cfg.density * A0 * A0 * (RADIUS * RADIUS - x.norm_squared());
+                let p = 0.5 * cfg.fluid.density * A0 * A0 * (RADIUS * RADIUS - x.norm_squared());
                 fluid.x.push(x);
                 fluid.v.push(Vec2::new(-A0 * x.x, A0 * x.y));
                 fluid.rho.push(eos.density_for_pressure(p));
@@ -201,7 +214,29 @@ pub fn semi_axes(fluid: &Fluid, t: f64) -> SemiAxes {
 /// Monaghan's elliptical drop as a scene (see the module documentation).
 pub struct EllipticalDrop;
 
-impl super::Scene for EllipticalDrop {
+impl SceneType for EllipticalDrop {
+    const NAME: &'static str = "elliptical_drop";
+    const DESCRIPTION: &'static str =
+        "Monaghan's rotating-stretching elliptical drop, no walls (Ren 2015 section 4.1)";
+    type Params = NoParams;
+    type Outputs = NoOutputs;
+}
+
+impl Scene for EllipticalDrop {
+    /// The initial diameter 2R.
+    fn reference_length(&self, _cfg: &SceneConfig) -> f64 {
+        2.0 * RADIUS
+    }
+
+    /// Nothing falls (the scene fixes its own sound speed, [`SOUND_SPEED`]).
+    fn max_expected_speed(&self, _cfg: &SceneConfig) -> f64 {
+        1e-3
+    }
+
+    fn domain_radius(&self, _cfg: &SceneConfig) -> f64 {
+        1000.0 * (2.0 * RADIUS) + 10.0 * (2.0 * RADIUS)
+    }
+
     fn effective_config(&self, cfg: &SceneConfig) -> SceneConfig {
         effective_config(cfg)
     }
@@ -221,6 +256,72 @@ impl super::Scene for EllipticalDrop {
     fn time_scale(&self, _cfg: &SceneConfig) -> f64 {
         TIME_SCALE
     }
+
+    /// The semi-major axis at the end against the exact one, and the product of the semi-axes.
+    fn summary(
+        &self,
+        _cfg: &SceneConfig,
+        st: &State,
+        series: &[(f64, Outputs)],
+        _predictions: &dyn Predictions,
+    ) -> Vec<String> {
+        let e = semi_axes(&st.fluid, st.time);
+        vec![format!(
+            "semi-major axis at t = {:.6} s: computed {:.6} m, exact {:.6} m, error {:+.3} %; \
+             product of the semi-axes {:.4} R^2 (extents), {:.4} R^2 (second moments)",
+            series.last().map(|s| s.0).unwrap_or(0.0),
+            e.major,
+            e.exact_major,
+            100.0 * e.major_error,
+            e.product,
+            e.fitted_product
+        )]
+    }
+
+    /// The extents along x and y over the initial diameter 2R, against t in ms.
+    fn time_plot(&self, _cfg: &SceneConfig) -> TimePlot {
+        let d = 2.0 * RADIUS;
+        TimePlot {
+            time_unit: 1e-3,
+            x_label: "t [ms]".to_string(),
+            panels: vec![
+                TimePlotPanel {
+                    title: "extent along x / 2R (R = 1 m)".to_string(),
+                    y_label: "width / 2R [-]".to_string(),
+                    value: Box::new(move |o| o.shared.drop_width / d),
+                },
+                TimePlotPanel {
+                    title: "extent along y / 2R".to_string(),
+                    y_label: "height / 2R [-]".to_string(),
+                    value: Box::new(move |o| o.shared.drop_height / d),
+                },
+            ],
+        }
+    }
+
+    /// Its unit of t* is artificial (an eighth of Ren's end time): t alone.
+    fn time_label(&self, _cfg: &SceneConfig, t: f64) -> String {
+        format!("t = {}", time_text(t))
+    }
+
+    fn snapshot_title(&self, cfg: &SceneConfig, field: &str) -> String {
+        format!(
+            "Elliptical drop ({}, {} particles across), coloured by {field}",
+            cfg.scheme, cfg.numerics.particles_per_diameter
+        )
+    }
+
+    fn own_sound_speed(&self) -> Option<&'static str> {
+        Some("the elliptical drop's own")
+    }
+
+    fn taken_parameters(&self) -> Option<(&'static str, &'static [&'static str])> {
+        Some((
+            "# The elliptical drop defines its own fluid, size, velocity field and sound speed\n\
+             # (Monaghan 1994); these are the parameters it takes from the scene file.\n",
+            TAKEN,
+        ))
+    }
 }
 
 #[cfg(test)]
@@ -229,10 +330,11 @@ mod tests {
 
     #[test]
     fn ren_lattice_has_1961_particles_on_the_circle() {
-        let cfg = SceneConfig {
-            particles_per_diameter: 50,
+        let mut cfg = SceneConfig {
+            scene: crate::scene::SceneKind::EllipticalDrop,
             ..Default::default()
         };
+        cfg.numerics.particles_per_diameter = 50;
         let e = effective_config(&cfg);
         let f = build(&e);
         assert_eq!(f.len(), 1961);
@@ -240,7 +342,7 @@ mod tests {
         assert!((s.minor - 1.0).abs() < 1e-12 && (s.major - 1.0).abs() < 1e-12);
         // Centre pressure rho0 A0^2 R^2 / 2 = 5e6 Pa through the linear equation of state.
         let centre = f.x.iter().position(|x| x.norm() < 1e-12).unwrap();
-        let p = Eos::from_config(&e).pressure(f.rho[centre]);
+        let p = e.eos().pressure(f.rho[centre]);
         assert!((p - 5.0e6).abs() < 1e-6 * 5.0e6, "{p}");
     }
 }

@@ -1,71 +1,64 @@
 //! Scenes: the initial state of a flow, its walls, what happens at every step (inflow, for the
-//! jet) and what is measured in it. A scene is a [`Scene`]; [`for_config`] is the one place that
-//! maps the `scene` parameter to it, so a new scene is a new file and one line there.
+//! jet), what is measured in it and how a run of it is reported. A scene is one file: a type that
+//! implements [`Scene`] (behaviour) and [`SceneType`] (its name, its parameter group declared
+//! with [`params!`](crate::params), its output group declared with
+//! [`outputs!`](crate::outputs)). The registry below is the one place that lists the scenes:
+//! from it come the `scene` parameter and its items, the configuration [`SceneConfig`] (the
+//! shared groups and every scene's), the outputs [`Outputs`] (the shared ones and every
+//! scene's), and the one `match` that maps the `scene` parameter to its behaviour. A new scene is
+//! a new file and one line in the `scenes!` list below.
+//!
+//! Nothing outside this file and `scheme/mod.rs` tests which scene or scheme runs: what differs
+//! between scenes is a method of [`Scene`] (with a default that most scenes keep), and what
+//! differs between schemes is data [`SchemeKind`] provides.
 
-pub mod channel;
-pub mod drop;
-pub mod elliptical_drop;
-pub mod jet;
+mod configuration;
+pub mod report;
+mod table;
+
+pub use configuration::{Inputs, MAX_PARTICLES};
+pub use report::{time_text, NoPredictions, Prediction, Predictions, TimePlot, TimePlotPanel};
+pub use table::{
+    input_rows, name_variable, name_variable_by_vr, name_variables, output_index, param_by_vr,
+    param_spec, NAME_SUFFIX, NAME_VR_OFFSET, OUTPUTS, PARAMS,
+};
 
 use crate::boundary::plate::Plate;
-use crate::config::{self, ConfigError, SceneConfig};
-use crate::diagnostics::Outputs;
+use crate::choice::Choice;
+use crate::config::{
+    ConfigError, FluidParams, IsphFreeSurface, Numerics, ParamGroup, ParamSpec, ParamValue,
+    PlateParams, Value,
+};
+use crate::diagnostics::{OutputGroup, OutputSpec, SharedOutputs};
 use crate::neighbors::Domain;
 use crate::particles::Fluid;
+pub use crate::scheme::SchemeKind;
 use crate::state::State;
 use crate::{Mat2, Vec2};
+use serde::{de::DeserializeOwned, Deserialize, Serialize};
 
-/// One kind of flow.
+/// One kind of flow: how it is built, driven and measured, and how a run of it is reported.
+/// Every method but [`Scene::effective_config`] gets the configuration the solver runs
+/// (`SceneConfig::effective`; the scales and [`Scene::reference_length`] read only what it does
+/// not change), in which the scene's own group is `cfg.<scene>` (e.g. `cfg.jet`).
 pub trait Scene: Send + Sync {
-    /// Checks of the configuration that belong to this scene (beyond the parameter table's).
-    fn validate(&self, _cfg: &SceneConfig) -> Result<(), ConfigError> {
-        Ok(())
+    // ---- Parameters and scales.
+
+    /// What a scene file that names this scene gets for the keys it leaves out, over the
+    /// table's defaults: a flat TOML text read through the table, so every value is checked
+    /// against its row's range. Empty: the table's own.
+    fn defaults(&self) -> &'static str {
+        ""
     }
 
-    /// The configuration the solver runs: the scene's own physics over the user's numerics.
-    fn effective_config(&self, cfg: &SceneConfig) -> SceneConfig {
-        cfg.clone()
-    }
+    /// The length `particles_per_diameter` counts particles across [m]: the lattice spacing is
+    /// dx = reference_length / particles_per_diameter.
+    fn reference_length(&self, cfg: &SceneConfig) -> f64;
 
-    /// The initial fluid and walls for the effective configuration. `rest` is the model's
-    /// conformation at rest, or None for models without a conformation tensor.
-    fn build(&self, cfg: &SceneConfig, rest: Option<Mat2>) -> (Fluid, Vec<Plate>);
-
-    /// The domain the pairs see (open unless the scene is periodic).
-    fn domain(&self, _cfg: &SceneConfig) -> Domain {
-        Domain::OPEN
-    }
-
-    /// Body force per unit mass [m/s2]: gravity, vertically down, unless the scene drives the
-    /// flow otherwise.
-    fn body_force(&self, cfg: &SceneConfig) -> Vec2 {
-        Vec2::new(0.0, -cfg.gravity)
-    }
-
-    /// Whether the `auto` viscous operator means Morris' Laplacian (see
-    /// [`crate::operators::stress`]) rather than Fang's nested form.
-    fn viscous_laplacian(&self) -> bool {
-        false
-    }
-
-    /// Largest distance from the origin a particle may reach before the run stops [m].
-    fn domain_radius(&self, cfg: &SceneConfig) -> f64 {
-        1000.0 * cfg.drop_diameter + 10.0 * cfg.drop_height
-    }
-
-    /// Completes the initial state made of [`Scene::build`]'s fluid and walls (the jet's inflow
-    /// bookkeeping).
-    fn init_state(&self, _cfg: &SceneConfig, _st: &mut State) {}
-
-    /// Called before every step (inflow).
-    fn before_step(&self, _cfg: &SceneConfig, _st: &mut State) {}
-
-    /// Whether the input `plate_velocity` may move this scene's first wall. Only a scene with
-    /// one free-standing plate can: a channel wall moved along its normal would squeeze the
-    /// channel, and the elliptical drop has no wall.
-    fn has_moving_plate(&self) -> bool {
-        false
-    }
+    /// Largest speed the scene's fluid can reach from its initial conditions [m/s], the
+    /// reference of the automatic sound speed (`SceneConfig::resolved_sound_speed`). At least
+    /// 1 mm/s, so a scene with nothing moving still gets a finite time step.
+    fn max_expected_speed(&self, cfg: &SceneConfig) -> f64;
 
     /// Velocity scale U \[m/s\], for dimensionless measures such as the pressure roughness
     /// (normalised by rho0 U^2).
@@ -74,37 +67,356 @@ pub trait Scene: Send + Sync {
     /// Time scale \[s\] for dimensionless plots (t* = t / time scale).
     fn time_scale(&self, cfg: &SceneConfig) -> f64;
 
-    /// The outputs of a state (see [`crate::diagnostics`]).
+    /// Rough particle count (fluid + wall), for the memory check.
+    fn estimated_particles(&self, cfg: &SceneConfig) -> f64 {
+        let ppd = cfg.numerics.particles_per_diameter as f64;
+        std::f64::consts::FRAC_PI_4 * ppd * ppd
+    }
+
+    /// Checks of the configuration that belong to this scene (beyond the parameter table's).
+    fn validate(&self, _cfg: &SceneConfig) -> Result<(), ConfigError> {
+        Ok(())
+    }
+
+    /// The configuration the solver runs: the scene's own physics over the shared groups of
+    /// the user's (a scene that fixes its fluid, switches gravity off...).
+    fn effective_config(&self, cfg: &SceneConfig) -> SceneConfig {
+        cfg.clone()
+    }
+
+    // ---- What the scheme is told about the domain.
+
+    /// Whether the fluid has a free surface (every scene but a closed one).
+    fn has_free_surface(&self) -> bool {
+        true
+    }
+
+    /// What `isph_free_surface = auto` means here (module documentation of `scheme::isph`).
+    fn auto_free_surface(&self) -> IsphFreeSurface {
+        IsphFreeSurface::ZeroPressure
+    }
+
+    /// Whether the `auto` viscous operator means Morris' Laplacian (see
+    /// [`crate::operators::stress`]) rather than Fang's nested form.
+    fn viscous_laplacian(&self) -> bool {
+        false
+    }
+
+    /// The domain the pairs see (open unless the scene is periodic).
+    fn domain(&self, _cfg: &SceneConfig) -> Domain {
+        Domain::OPEN
+    }
+
+    /// Largest distance from the origin a particle may reach before the run stops [m].
+    fn domain_radius(&self, cfg: &SceneConfig) -> f64;
+
+    /// Body force per unit mass [m/s2]: gravity, vertically down, unless the scene drives the
+    /// flow otherwise.
+    fn body_force(&self, cfg: &SceneConfig) -> Vec2 {
+        Vec2::new(0.0, -cfg.fluid.gravity)
+    }
+
+    /// Whether the input `plate_velocity` may move this scene's first wall. Only a scene with
+    /// one free-standing plate can: a channel wall moved along its normal would squeeze the
+    /// channel, and the elliptical drop has no wall.
+    fn has_moving_plate(&self) -> bool {
+        false
+    }
+
+    // ---- The state.
+
+    /// The initial fluid and walls. `rest` is the model's conformation at rest, or None for
+    /// models without a conformation tensor.
+    fn build(&self, cfg: &SceneConfig, rest: Option<Mat2>) -> (Fluid, Vec<Plate>);
+
+    /// The initial state: [`Scene::build`]'s fluid and walls, and whatever else the scene
+    /// keeps in the state (the jet's inlet and its bookkeeping).
+    fn initial_state(&self, cfg: &SceneConfig, rest: Option<Mat2>) -> State {
+        let (fluid, walls) = self.build(cfg, rest);
+        State::new(fluid, walls)
+    }
+
+    /// Called before every step (inflow).
+    fn before_step(&self, _cfg: &SceneConfig, _st: &mut State) {}
+
+    /// The outputs of a state: the shared ones ([`SceneConfig::shared_outputs`]) and the
+    /// scene's own; every other scene's hold 0.
     fn outputs(&self, st: &State, cfg: &SceneConfig) -> Outputs {
-        Outputs::compute_for(st, cfg)
+        Outputs {
+            shared: cfg.shared_outputs(st),
+            ..Default::default()
+        }
+    }
+
+    // ---- Reports (the CLI's `viscosph run`, the FMU's log).
+
+    /// A warning for a configuration that runs but not as the user likely expects, told once
+    /// (the CLI on stderr, the FMU under `logStatusWarning`).
+    fn warning(&self, _cfg: &SceneConfig) -> Option<&'static str> {
+        None
+    }
+
+    /// Lines that sum up a run: the state at its end and its record of outputs. `predictions`
+    /// are models outside the solver the scene may quote (see [`Predictions`]).
+    fn summary(
+        &self,
+        _cfg: &SceneConfig,
+        _st: &State,
+        _series: &[(f64, Outputs)],
+        _predictions: &dyn Predictions,
+    ) -> Vec<String> {
+        Vec::new()
+    }
+
+    /// What a plot of the run's outputs against time shows (`width_height.png`): by default
+    /// W* = width / D and H* = height / D against t* = t / time scale, D the reference length.
+    fn time_plot(&self, cfg: &SceneConfig) -> TimePlot {
+        report::extent_plot(cfg, self.reference_length(cfg), self.time_scale(cfg))
+    }
+
+    /// The caption of a snapshot at time `t`: t* and t by default.
+    fn time_label(&self, cfg: &SceneConfig, t: f64) -> String {
+        format!(
+            "t* = {:.2} (t = {})",
+            t / self.time_scale(cfg),
+            time_text(t)
+        )
+    }
+
+    /// The title of a sheet of particle snapshots coloured by `field`.
+    fn snapshot_title(&self, cfg: &SceneConfig, field: &str) -> String;
+
+    /// Columns of a sheet of `panels` particle snapshots.
+    fn snapshot_columns(&self, _panels: usize) -> usize {
+        3
+    }
+
+    /// An inlet to draw on the snapshots: its opening from x0 to x1 at height y [m].
+    fn inlet_mark(&self, _cfg: &SceneConfig) -> Option<(f64, f64, f64)> {
+        None
+    }
+
+    /// For a scene that fixes its own sound speed (whatever `sound_speed` says), where it comes
+    /// from, e.g. "the elliptical drop's own".
+    fn own_sound_speed(&self) -> Option<&'static str> {
+        None
+    }
+
+    /// For a scene that takes only some parameters from the configuration (its own physics
+    /// fixes the rest): a note and the parameters a record of the run lists.
+    fn taken_parameters(&self) -> Option<(&'static str, &'static [&'static str])> {
+        None
     }
 }
 
-/// The scene of a configuration, or why it cannot run.
-pub fn for_config(cfg: &SceneConfig) -> Result<&'static dyn Scene, ConfigError> {
-    match cfg.scene {
-        config::Scene::Drop => Ok(&drop::Drop),
-        config::Scene::EllipticalDrop => Ok(&elliptical_drop::EllipticalDrop),
-        config::Scene::Channel => Ok(&channel::Channel),
-        config::Scene::Jet => Ok(&jet::Jet),
+/// What the registry needs to know of a scene at compile time.
+pub trait SceneType: Scene + 'static {
+    /// The item of the `scene` parameter (FMU Enumeration item, scene-file value).
+    const NAME: &'static str;
+    /// The item's description.
+    const DESCRIPTION: &'static str;
+    /// The scene's own parameters ([`crate::config::NoParams`] for none).
+    type Params: ParamGroup
+        + Default
+        + Clone
+        + PartialEq
+        + std::fmt::Debug
+        + Serialize
+        + DeserializeOwned;
+    /// The scene's own outputs ([`crate::diagnostics::NoOutputs`] for none).
+    type Outputs: OutputGroup
+        + Default
+        + Copy
+        + PartialEq
+        + std::fmt::Debug
+        + Serialize
+        + DeserializeOwned;
+}
+
+/// The registry: from the list of scenes, the `scene` parameter ([`SceneKind`], its items and
+/// its row), the configuration ([`SceneConfig`]) and the outputs ([`Outputs`]).
+macro_rules! scenes {
+    ($($variant:ident => $module:ident :: $scene:ident),+ $(,)?) => {
+        $(pub mod $module;)+
+
+        /// The flow to simulate: the `scene` parameter. Item order is the FMU's (append only).
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+        #[serde(rename_all = "snake_case")]
+        pub enum SceneKind {
+            $($variant),+
+        }
+
+        /// The items of the `scene` parameter: (name, description), in FMU order.
+        pub const SCENES: &[(&str, &str)] = &[
+            $((<$module::$scene as SceneType>::NAME, <$module::$scene as SceneType>::DESCRIPTION)),+
+        ];
+
+        impl SceneKind {
+            /// The scene's behaviour.
+            pub fn scene(self) -> &'static dyn Scene {
+                match self {
+                    $(SceneKind::$variant => &$module::$scene),+
+                }
+            }
+        }
+
+        impl Choice for SceneKind {
+            const ITEMS: &'static [(&'static str, &'static str)] = SCENES;
+            fn name(self) -> &'static str {
+                match self {
+                    $(SceneKind::$variant => <$module::$scene as SceneType>::NAME),+
+                }
+            }
+            fn from_name(s: &str) -> Option<Self> {
+                [$(SceneKind::$variant),+].into_iter().find(|k| k.name() == s)
+            }
+        }
+
+        /// Everything that defines a simulation: which scene under which scheme, the shared
+        /// groups, and every scene's own group (only the running scene's is read). Field names
+        /// of the groups are the FMU parameter names.
+        #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+        pub struct SceneConfig {
+            pub scene: SceneKind,
+            pub scheme: SchemeKind,
+            pub fluid: FluidParams,
+            pub numerics: Numerics,
+            pub plate: PlateParams,
+            $(pub $module: <$module::$scene as SceneType>::Params,)+
+        }
+
+        impl Default for SceneConfig {
+            /// The table's defaults: Fang et al. 2006's Oldroyd-B drop.
+            fn default() -> Self {
+                Self {
+                    scene: ParamValue::from_checked(SCENE_ROW.kind.default_value()),
+                    scheme: ParamValue::from_checked(crate::scheme::SCHEME_ROW.kind.default_value()),
+                    fluid: Default::default(),
+                    numerics: Default::default(),
+                    plate: Default::default(),
+                    $($module: Default::default(),)+
+                }
+            }
+        }
+
+        impl ParamGroup for SceneConfig {
+            fn collect_rows(out: &mut Vec<&'static ParamSpec>) {
+                out.push(&SCENE_ROW);
+                out.push(&crate::scheme::SCHEME_ROW);
+                FluidParams::collect_rows(out);
+                Numerics::collect_rows(out);
+                PlateParams::collect_rows(out);
+                $(<$module::$scene as SceneType>::Params::collect_rows(out);)+
+            }
+            fn value(&self, name: &str) -> Option<Value> {
+                match name {
+                    "scene" => Some(self.scene.to_value()),
+                    "scheme" => Some(self.scheme.to_value()),
+                    _ => self
+                        .fluid
+                        .value(name)
+                        .or_else(|| self.numerics.value(name))
+                        .or_else(|| self.plate.value(name))
+                        $(.or_else(|| self.$module.value(name)))+,
+                }
+            }
+            fn store(&mut self, name: &str, v: crate::config::Checked) -> bool {
+                match name {
+                    "scene" => self.scene = SceneKind::from_checked(v),
+                    "scheme" => self.scheme = SchemeKind::from_checked(v),
+                    _ => {
+                        return self.fluid.store(name, v)
+                            || self.numerics.store(name, v)
+                            || self.plate.store(name, v)
+                            $(|| self.$module.store(name, v))+
+                    }
+                }
+                true
+            }
+        }
+
+        /// Values of every output at one time: the shared ones and every scene's own group
+        /// (those of the scenes not running hold 0).
+        #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+        pub struct Outputs {
+            pub shared: SharedOutputs,
+            $(pub $module: <$module::$scene as SceneType>::Outputs,)+
+        }
+
+        impl Outputs {
+            /// The output rows in group order (the shared group first, then the scenes').
+            fn collect_rows(out: &mut Vec<&'static OutputSpec>) {
+                out.extend(SharedOutputs::ROWS);
+                $(out.extend(<$module::$scene as SceneType>::Outputs::ROWS);)+
+            }
+            /// The values in group order.
+            fn group_values(&self) -> Vec<f64> {
+                let mut v = Vec::new();
+                self.shared.push_values(&mut v);
+                $(self.$module.push_values(&mut v);)+
+                v
+            }
+            /// Set the values from `v`, in group order.
+            fn set_group_values(&mut self, v: &[f64]) {
+                let rest = self.shared.take_values(v);
+                $(let rest = self.$module.take_values(rest);)+
+                debug_assert!(rest.is_empty());
+            }
+        }
+    };
+}
+
+scenes! {
+    Drop => drop::Drop,
+    Jet => jet::Jet,
+    Channel => channel::Channel,
+    EllipticalDrop => elliptical_drop::EllipticalDrop,
+}
+
+/// The row of the `scene` parameter.
+pub const SCENE_ROW: ParamSpec =
+    ParamSpec::choice::<SceneKind>("scene", 1, "Scene", "drop", "Which flow to simulate");
+
+impl SceneKind {
+    /// The snake_case name used in the FMU and in scene files.
+    pub fn as_str(self) -> &'static str {
+        self.name()
+    }
+    /// Parse the snake_case name.
+    pub fn parse(s: &str) -> Option<Self> {
+        Self::from_name(s)
     }
 }
 
-/// The configuration the solver runs for `cfg` (see [`Scene::effective_config`]); `cfg` itself
-/// for a scene that cannot run.
-pub fn effective_config(cfg: &SceneConfig) -> SceneConfig {
-    match for_config(cfg) {
-        Ok(s) => s.effective_config(cfg),
-        Err(_) => cfg.clone(),
+impl std::fmt::Display for SceneKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
     }
 }
 
-/// Velocity scale of the scene of `cfg` (see [`Scene::velocity_scale`]).
-pub fn velocity_scale(cfg: &SceneConfig) -> f64 {
-    for_config(cfg).map_or(1.0, |s| s.velocity_scale(cfg))
+/// The names of the scenes for which `test` holds, in registry order.
+fn names_where(test: impl Fn(&dyn Scene) -> bool) -> Vec<&'static str> {
+    SCENES
+        .iter()
+        .map(|(n, _)| *n)
+        .filter(|n| SceneKind::from_name(n).is_some_and(|k| test(k.scene())))
+        .collect()
 }
 
-/// Time scale of the scene of `cfg` (see [`Scene::time_scale`]).
-pub fn time_scale(cfg: &SceneConfig) -> f64 {
-    for_config(cfg).map_or(1.0, |s| s.time_scale(&s.effective_config(cfg)))
+/// The scenes without a free surface, quoted, for messages ("'channel'").
+pub fn closed_scenes() -> String {
+    let names: Vec<String> = names_where(|s| !s.has_free_surface())
+        .iter()
+        .map(|n| format!("'{n}'"))
+        .collect();
+    names.join(" or ")
+}
+
+/// The scenes whose plate the input `plate_velocity` moves, for messages ("the drop").
+pub fn moving_plate_scenes() -> String {
+    let names: Vec<String> = names_where(|s| s.has_moving_plate())
+        .iter()
+        .map(|n| format!("the {n}"))
+        .collect();
+    names.join(" or ")
 }

@@ -252,7 +252,7 @@ use crate::boundary::mirror::MirrorWall;
 use crate::boundary::plate::Plate;
 use crate::boundary::wall_profile;
 use crate::boundary::Boundary;
-use crate::config::{ConformationMethod, IsphFrame, IsphFreeSurface, SceneConfig, ViscousStep};
+use crate::config::{ConformationMethod, IsphFrame, IsphFreeSurface, Numerics, ViscousStep};
 use crate::kernel::{Kernel, QuinticSpline};
 use crate::neighbors::{CellGrid, NeighborList};
 use crate::operators::{correction, shifting, surface};
@@ -383,13 +383,14 @@ pub struct Isph<R: Rheology> {
 }
 
 impl<R: Rheology> Isph<R> {
-    /// The scheme for the effective configuration `cfg`, the constants `p` and the plates of the
-    /// initial state.
-    pub fn new(model: R, p: Params, cfg: &SceneConfig, plates: &[Plate]) -> Self {
+    /// The scheme for the numerics `cfg` of an effective configuration, the constants `p` (which
+    /// say whether the scene has a free surface and what `auto` means for it) and the plates of
+    /// the initial state.
+    pub fn new(model: R, p: Params, cfg: &Numerics, plates: &[Plate]) -> Self {
         let kernel = QuinticSpline::new(H_OVER_DX * p.dx);
         // The EVSS floor was measured on drops; the closed channel keeps the configured
         // alpha_V (King & Lind's beta = 0 channel uses alpha_V = 0.01).
-        let free_surface = cfg.scene != crate::config::Scene::Channel;
+        let free_surface = p.free_surface;
         let evss_alpha = if free_surface {
             isph_evss_alpha(&model, p.evss_alpha)
         } else {
@@ -428,7 +429,7 @@ impl<R: Rheology> Isph<R> {
             half_lattice,
             normal_stress: free_surface
                 && match cfg.isph_free_surface {
-                    IsphFreeSurface::Auto => cfg.scene == crate::config::Scene::Jet,
+                    IsphFreeSurface::Auto => p.auto_free_surface == IsphFreeSurface::NormalStress,
                     IsphFreeSurface::ZeroPressure => false,
                     IsphFreeSurface::NormalStress => true,
                 },
@@ -1580,8 +1581,14 @@ impl<R: Rheology> Scheme for Isph<R> {
         Ok(dt)
     }
 
-    fn timings(&self) -> Option<IsphTimings> {
-        Some(self.timings)
+    fn timings(&self) -> super::Timings {
+        super::Timings {
+            total: self.timings.total,
+            parts: vec![
+                ("pressure solve", self.timings.pressure_solve),
+                ("viscous solve", self.timings.viscous_solve),
+            ],
+        }
     }
 
     fn wall_positions(&self, st: &State) -> Vec<Vec2> {

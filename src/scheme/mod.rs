@@ -17,7 +17,7 @@ pub mod wc;
 pub mod wcsph;
 
 use crate::boundary::plate::Plate;
-use crate::config::{ConfigError, SceneConfig, SchemeKind};
+use crate::config::{ConfigError, FluidParams, IsphFrame, IsphFreeSurface, Numerics, ParamSpec};
 use crate::kernel::CubicSpline;
 use crate::rheology::{AnyRheology, Rheology};
 use crate::state::State;
@@ -27,6 +27,122 @@ use params::Params;
 use pdri::Pdri;
 use wcsph::Wcsph;
 
+pub const SCHEMES: &[(&str, &str)] = &[
+    ("wcsph", "weakly compressible SPH of Fang et al. 2006"),
+    (
+        "pdri",
+        "SPH with periodic density reinitialisation of Ren et al. 2015",
+    ),
+    ("isph", "incompressible SPH of King & Lind 2021"),
+];
+
+crate::choice_enum!(
+    /// The SPH scheme: the `scheme` parameter. Item order is the FMU's (append only).
+    SchemeKind, SCHEMES, Wcsph = "wcsph", Pdri = "pdri", Isph = "isph");
+
+/// The row of the `scheme` parameter.
+pub const SCHEME_ROW: ParamSpec =
+    ParamSpec::choice::<SchemeKind>("scheme", 2, "Scheme", "wcsph", "SPH scheme");
+
+/// What the rest of the solver may know about a scheme: data, never a branch on its name.
+impl SchemeKind {
+    /// Radius of the kernel's support in particle spacings: 2h with the weakly compressible
+    /// schemes' cubic spline (h = `smoothing_ratio` dx), 3h = 3.9 dx with ISPH's quintic spline
+    /// (whose h = 1.3 dx ignores `smoothing_ratio`).
+    pub fn kernel_support(self, smoothing_ratio: f64) -> f64 {
+        match self {
+            SchemeKind::Isph => 3.0 * isph::H_OVER_DX,
+            SchemeKind::Wcsph | SchemeKind::Pdri => 2.0 * smoothing_ratio,
+        }
+    }
+
+    /// Whether the scheme is incompressible (a pressure Poisson equation, no equation of state
+    /// or sound speed; every particle keeps its volume m / rho0).
+    pub fn is_incompressible(self) -> bool {
+        matches!(self, SchemeKind::Isph)
+    }
+
+    /// Distance from a wall line to the first row of a fluid lattice that fills a walled
+    /// domain, in particle spacings: one with wall particles on the wall line (Fang's and
+    /// Ren's walls: the half cell next to the wall line is the wall particles'), one half with
+    /// mirror walls (King & Lind's: the first mirror row then lies dx below the first fluid
+    /// row, as in the bulk).
+    pub fn wall_lattice_offset(self) -> f64 {
+        match self {
+            SchemeKind::Isph => 0.5,
+            SchemeKind::Wcsph | SchemeKind::Pdri => 1.0,
+        }
+    }
+
+    /// The free-surface pressure condition the scheme applies (`isph_free_surface`, with `auto`
+    /// resolved to the scene's choice), or None for a scheme without one (the weakly
+    /// compressible ones: their surface pressure follows from the density).
+    pub fn free_surface_condition(
+        self,
+        numerics: &Numerics,
+        auto: IsphFreeSurface,
+    ) -> Option<IsphFreeSurface> {
+        match self {
+            SchemeKind::Isph => Some(match numerics.isph_free_surface {
+                IsphFreeSurface::Auto => auto,
+                chosen => chosen,
+            }),
+            SchemeKind::Wcsph | SchemeKind::Pdri => None,
+        }
+    }
+
+    /// Whether the scheme reinitialises the density every `density_reinit_interval` steps (Ren
+    /// 2015's PDRI-SPH): the one that reads that parameter.
+    pub fn reinitialises_density(self) -> bool {
+        matches!(self, SchemeKind::Pdri)
+    }
+
+    /// What `viscosph run` says instead of the sound speed, for a scheme that has none.
+    pub fn sound_speed_text(self) -> Option<&'static str> {
+        self.is_incompressible().then_some(
+            "incompressible (isph): no sound speed; the time step follows the flow speed and the \
+             polymer (and the viscosity with isph_viscous_step = explicit)",
+        )
+    }
+
+    /// The checks of the numerics that belong to this scheme, for a domain with or without a
+    /// free surface; `closed` names the scenes without one (for the message).
+    pub fn validate(
+        self,
+        numerics: &Numerics,
+        free_surface: bool,
+        scene: &str,
+        closed: &str,
+    ) -> Result<(), ConfigError> {
+        if self == SchemeKind::Isph && numerics.isph_frame == IsphFrame::Eulerian && free_surface {
+            return Err(ConfigError::Inconsistent(format!(
+                "isph_frame = 'eulerian' needs a domain without a free surface (scene = {closed}); \
+                 the scene '{scene}' has one: use isph_frame = 'lagrangian'"
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// Where a scheme's time went since it was built: wall seconds in whole steps and in the named
+/// parts it times (e.g. ISPH's pressure and viscous solves); empty for a scheme that times
+/// nothing.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Timings {
+    pub total: f64,
+    pub parts: Vec<(&'static str, f64)>,
+}
+
+impl Timings {
+    /// Seconds spent in the part called `name` (0 if the scheme does not time it).
+    pub fn part(&self, name: &str) -> f64 {
+        self.parts
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map_or(0.0, |p| p.1)
+    }
+}
+
 /// One SPH scheme instantiated for a concrete kernel and rheology.
 pub trait Scheme: Send {
     /// Advance `state` by one step of at most `max_dt`; returns the step taken, or the cause of
@@ -34,34 +150,43 @@ pub trait Scheme: Send {
     fn step(&mut self, state: &mut State, max_dt: f64) -> Result<f64, String>;
     /// Positions of the virtual (wall) particles currently built for the walls of `state`.
     fn wall_positions(&self, state: &State) -> Vec<Vec2>;
-    /// Where the time of the incompressible scheme's steps went (None for the other schemes).
-    fn timings(&self) -> Option<isph::IsphTimings> {
-        None
+    /// Where the time of the steps went (empty for schemes that time nothing).
+    fn timings(&self) -> Timings {
+        Timings::default()
     }
 }
 
-/// Build the scheme of `cfg` (an effective configuration) with the constants `params` for the
-/// walls `plates`, resolving scheme, kernel and rheology once. Each scheme takes the kernel of its
-/// paper: the cubic spline of Fang 2006 eq. (22), which Ren 2015 (section 2) uses too, for WCSPH and
-/// PDRI-SPH; King & Lind 2021's quintic spline (h = 1.3 dx) for ISPH.
-/// Returns the scheme and whether the model carries a conformation tensor.
+/// Build the scheme `kind` for the fluid and numerics of an effective configuration, with the
+/// constants `params` (which carry what the scene resolved: spacing, body force, domain, free
+/// surface) for the walls `plates`, resolving scheme, kernel and rheology once. Each scheme
+/// takes the kernel of its paper: the cubic spline of Fang 2006 eq. (22), which Ren 2015
+/// (section 2) uses too, for WCSPH and PDRI-SPH; King & Lind 2021's quintic spline
+/// (h = 1.3 dx) for ISPH. Returns the scheme and whether the model carries a conformation
+/// tensor.
 pub fn build(
-    cfg: &SceneConfig,
+    kind: SchemeKind,
+    fluid: &FluidParams,
+    numerics: &Numerics,
     params: Params,
     plates: &[Plate],
-) -> Result<(Box<dyn Scheme>, bool), ConfigError> {
-    let model = AnyRheology::from_config(cfg)?;
-    Ok(dispatch_rheology!(model, m => {
-        let elastic = elastic_of(&m);
-        let scheme: Box<dyn Scheme> = match cfg.scheme {
-            SchemeKind::Wcsph => Box::new(Wcsph::new(CubicSpline::new(cfg.h()), m, params, plates)),
-            SchemeKind::Pdri => Box::new(Pdri::new(CubicSpline::new(cfg.h()), m, params, plates)),
-            SchemeKind::Isph => Box::new(Isph::new(m, params, cfg, plates)),
+) -> Box<dyn Scheme> {
+    let model = AnyRheology::from_fluid(fluid);
+    let h = numerics.smoothing_ratio * params.dx;
+    dispatch_rheology!(model, m => {
+        let scheme: Box<dyn Scheme> = match kind {
+            SchemeKind::Wcsph => Box::new(Wcsph::new(CubicSpline::new(h), m, params, plates)),
+            SchemeKind::Pdri => Box::new(Pdri::new(CubicSpline::new(h), m, params, plates)),
+            SchemeKind::Isph => Box::new(Isph::new(m, params, numerics, plates)),
         };
-        (scheme, elastic)
-    }))
+        scheme
+    })
 }
 
-fn elastic_of<R: Rheology>(_: &R) -> bool {
-    R::ELASTIC
+/// Whether the fluid's model carries a conformation tensor, and its rest state if so.
+pub fn rest_conformation(fluid: &FluidParams) -> Option<crate::Mat2> {
+    dispatch_rheology!(AnyRheology::from_fluid(fluid), m => rest_of(&m))
+}
+
+fn rest_of<R: Rheology>(m: &R) -> Option<crate::Mat2> {
+    R::ELASTIC.then(|| m.rest_conformation())
 }

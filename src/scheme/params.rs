@@ -1,6 +1,11 @@
-//! Constants of the weakly compressible schemes, resolved once from the configuration.
+//! Constants of the schemes, resolved once from the fluid, the numerics and what the scene
+//! says about its domain (`SceneConfig::scheme_params` fills the scene's part): nothing here
+//! reads the scene itself, so the configuration flows into the scheme one way.
 
-use crate::config::{ArtificialStressKind, ConformationMethod, SceneConfig, ViscousOperator};
+use crate::config::{
+    ArtificialStressKind, ConformationMethod, FluidParams, IsphFreeSurface, Numerics,
+    ViscousOperator,
+};
 use crate::eos::Eos;
 use crate::neighbors::Domain;
 use crate::Vec2;
@@ -32,33 +37,42 @@ pub struct Params {
     pub domain_radius: f64,
     /// Open or periodic: every pair vector goes through it.
     pub domain: Domain,
+    /// Whether the domain has a free surface (the scene's: every scene but the closed channel).
+    pub free_surface: bool,
+    /// What `isph_free_surface = auto` means in this scene (never `Auto` itself).
+    pub auto_free_surface: IsphFreeSurface,
 }
 
 impl Params {
-    pub fn from_config(cfg: &SceneConfig) -> Self {
+    /// The constants for the fluid `f` and the numerics `n` at spacing `dx` and sound speed `c`,
+    /// in an open domain with a free surface under gravity (the scene's terms are set over these
+    /// by `SceneConfig::scheme_params`).
+    pub fn new(f: &FluidParams, n: &Numerics, dx: f64, c: f64) -> Self {
         Self {
-            eos: Eos::from_config(cfg),
-            alpha: cfg.artificial_viscosity_alpha,
-            beta: cfg.artificial_viscosity_beta,
-            art_kind: cfg.artificial_stress_kind,
-            art_coef: match cfg.artificial_stress_kind {
-                ArtificialStressKind::Fang => cfg.artificial_stress_epsilon,
-                ArtificialStressKind::Ren => cfg.artificial_stress_b,
+            eos: Eos::new(n.equation_of_state, f.density, c),
+            alpha: n.artificial_viscosity_alpha,
+            beta: n.artificial_viscosity_beta,
+            art_kind: n.artificial_stress_kind,
+            art_coef: match n.artificial_stress_kind {
+                ArtificialStressKind::Fang => n.artificial_stress_epsilon,
+                ArtificialStressKind::Ren => n.artificial_stress_b,
             },
-            gravity: Vec2::new(0.0, -cfg.gravity),
-            dt_factor: cfg.time_step_factor,
+            gravity: Vec2::new(0.0, -f.gravity),
+            dt_factor: n.time_step_factor,
             // The weakly compressible schemes' own choice is the direct update of their papers.
-            method: match cfg.conformation_method {
+            method: match n.conformation_method {
                 ConformationMethod::Auto => ConformationMethod::Direct,
                 m => m,
             },
-            evss_alpha: cfg.evss_alpha,
-            viscous_laplacian: cfg.viscous_operator == ViscousOperator::Laplacian,
-            reinit_interval: cfg.density_reinit_interval.max(0) as u64,
-            fracture_void_fraction: cfg.fracture_void_fraction,
-            dx: cfg.dx(),
+            evss_alpha: n.evss_alpha,
+            viscous_laplacian: n.viscous_operator == ViscousOperator::Laplacian,
+            reinit_interval: n.density_reinit_interval.max(0) as u64,
+            fracture_void_fraction: n.fracture_void_fraction,
+            dx,
             domain_radius: f64::INFINITY,
             domain: Domain::OPEN,
+            free_surface: true,
+            auto_free_surface: IsphFreeSurface::ZeroPressure,
         }
     }
 }

@@ -1,8 +1,9 @@
 //! Helpers shared by the integration tests: parameter values and a recorded run.
 #![allow(dead_code)]
 
-use viscosph::config::{SceneConfig, Value};
-use viscosph::diagnostics::Outputs;
+use viscosph::config::Value;
+use viscosph::scene::Outputs;
+use viscosph::scene::SceneConfig;
 use viscosph::simulation::{SimError, Simulation};
 
 pub fn r(x: f64) -> Value {
@@ -43,8 +44,8 @@ pub fn integrate_wall_force(sim: &mut Simulation, dt: f64, n: usize) -> (f64, f6
     for k in 1..=n {
         sim.advance_to(t0 + k as f64 * dt).unwrap();
         let o = sim.outputs();
-        int_n += 0.5 * dt * (o.wall_force_normal + prev.wall_force_normal);
-        int_t += 0.5 * dt * (o.wall_force_tangential + prev.wall_force_tangential);
+        int_n += 0.5 * dt * (o.shared.wall_force_normal + prev.shared.wall_force_normal);
+        int_t += 0.5 * dt * (o.shared.wall_force_tangential + prev.shared.wall_force_tangential);
         prev = o;
     }
     (int_n, int_t)
@@ -55,14 +56,14 @@ pub fn integrate_wall_force(sim: &mut Simulation, dt: f64, n: usize) -> (f64, f6
 pub fn assert_spreads_monotonically(ser: &[(f64, Outputs)], scale: f64, t_scale: f64) {
     let impact = ser
         .iter()
-        .position(|(_, o)| o.wall_force_normal > 0.0)
+        .position(|(_, o)| o.shared.wall_force_normal > 0.0)
         .expect("the drop reaches the plate");
     for w in ser[impact..].windows(2) {
         assert!(
-            w[1].1.drop_width >= w[0].1.drop_width,
+            w[1].1.shared.drop_width >= w[0].1.shared.drop_width,
             "W* fell from {} to {} at t* = {}",
-            w[0].1.drop_width / scale,
-            w[1].1.drop_width / scale,
+            w[0].1.shared.drop_width / scale,
+            w[1].1.shared.drop_width / scale,
             w[1].0 / t_scale
         );
     }

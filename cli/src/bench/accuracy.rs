@@ -8,8 +8,8 @@ use crate::io::plot::{panel_grid, Panel, Series};
 use crate::run::{run, RunOptions};
 use std::fmt::Write as _;
 use std::path::Path;
-use viscosph::config::{SceneConfig, SchemeKind};
-use viscosph::diagnostics::Outputs;
+use viscosph::scene::Outputs;
+use viscosph::scene::SceneConfig;
 
 /// One point of an accuracy-against-cost curve.
 #[derive(Debug, Clone)]
@@ -41,7 +41,7 @@ pub fn bench_accuracy(out: &Path, quick: bool) -> Result<String, Box<dyn std::er
             })
             .collect();
         let rows = drop_convergence(&cases, ppds, t_star_end)?;
-        let d = SceneConfig::default().drop_diameter;
+        let d = SceneConfig::default().drop.drop_diameter;
         for (name, _) in &cases {
             let g: Vec<&DropRow> = rows.iter().filter(|r| r.case == *name).collect();
             if g.iter().any(|r| r.error.is_some()) {
@@ -69,8 +69,8 @@ pub fn bench_accuracy(out: &Path, quick: bool) -> Result<String, Box<dyn std::er
                 .zip(&g[1].series)
                 .map(|((t, f), (_, m))| {
                     let mut o = *f;
-                    o.drop_width =
-                        f.drop_width + (f.drop_width - m.drop_width) / (2f64.powf(pe) - 1.0);
+                    o.shared.drop_width = f.shared.drop_width
+                        + (f.shared.drop_width - m.shared.drop_width) / (2f64.powf(pe) - 1.0);
                     (*t, o)
                 })
                 .collect();
@@ -101,20 +101,24 @@ pub fn bench_accuracy(out: &Path, quick: bool) -> Result<String, Box<dyn std::er
     let variants: Vec<(String, SceneConfig)> = built_schemes()
         .into_iter()
         .flat_map(|scheme| {
-            let intervals: Vec<i64> = if scheme == SchemeKind::Pdri {
+            // The reinitialisation interval is swept for the scheme that reads it.
+            let intervals: Vec<i64> = if scheme.reinitialises_density() {
                 vec![10, 20, 40]
             } else {
                 vec![0]
             };
             intervals.into_iter().map(move |k| {
-                let c = SceneConfig {
-                    scene: viscosph::config::Scene::EllipticalDrop,
-                    scheme,
-                    density_reinit_interval: k,
-                    ..Default::default()
+                let c = {
+                    let mut c = SceneConfig {
+                        scene: viscosph::scene::SceneKind::EllipticalDrop,
+                        scheme,
+                        ..Default::default()
+                    };
+                    c.numerics.density_reinit_interval = k;
+                    c
                 };
-                let name = if scheme == SchemeKind::Pdri {
-                    format!("pdri/{k}")
+                let name = if scheme.reinitialises_density() {
+                    format!("{scheme}/{k}")
                 } else {
                     scheme.to_string()
                 };
@@ -124,9 +128,10 @@ pub fn bench_accuracy(out: &Path, quick: bool) -> Result<String, Box<dyn std::er
         .collect();
     for (name, base) in &variants {
         for &ppd in ell_ppds {
-            let cfg = SceneConfig {
-                particles_per_diameter: ppd,
-                ..base.clone()
+            let cfg = {
+                let mut c = base.clone();
+                c.numerics.particles_per_diameter = ppd;
+                c
             };
             let opts = RunOptions {
                 t_end: viscosph::scene::elliptical_drop::T_END,
@@ -134,8 +139,8 @@ pub fn bench_accuracy(out: &Path, quick: bool) -> Result<String, Box<dyn std::er
                 ..RunOptions::for_scene(&cfg)
             };
             eprintln!("bench: elliptical drop, {name} at {ppd} ...");
-            let r = run(&cfg, &opts)?;
-            let Some(e) = r.elliptical else { continue };
+            let r = run(&cfg, &opts, &crate::predictions::ReferenceModels)?;
+            let e = viscosph::scene::elliptical_drop::semi_axes(&r.state.fluid, r.state.time);
             writeln!(
                 md,
                 "| {name} | {ppd} | {} | {:.2} | {:+.3} % | {:.4} / {:.4} |",

@@ -40,9 +40,10 @@ use clap::{Args, ValueEnum};
 use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
-use viscosph::config::{SceneConfig, Value};
+use viscosph::config::Value;
 use viscosph::rheology::{AnyRheology, Rheology};
 use viscosph::scene::channel::centreline_velocity;
+use viscosph::scene::SceneConfig;
 use viscosph::simulation::{SimError, Simulation};
 use viscosph_reference::analytic::waters_king::WatersKing;
 use viscosph_reference::analytic::{self, SteadyChannel};
@@ -961,10 +962,14 @@ mod tests {
             assert_eq!(c.scheme.as_str(), v.label.split('/').next().unwrap());
             // U = rho g H^2 / (8 eta0) = 1 and Re = rho U H / eta0 = 1.
             assert_eq!(
-                (c.body_force, c.viscosity, c.relaxation_time),
+                (
+                    c.channel.body_force,
+                    c.fluid.viscosity,
+                    c.fluid.relaxation_time
+                ),
                 (8.0, 1.0, 1.0)
             );
-            assert!((c.sound_speed - 28.5).abs() < 1e-12);
+            assert!((c.numerics.sound_speed - 28.5).abs() < 1e-12);
         }
     }
 }

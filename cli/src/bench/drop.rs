@@ -7,8 +7,9 @@ use crate::io::plot::{line_panels, Panel, Series};
 use crate::run::{run, time_scale, RunOptions};
 use std::fmt::Write as _;
 use std::path::Path;
-use viscosph::config::{SceneConfig, Value};
-use viscosph::diagnostics::Outputs;
+use viscosph::config::Value;
+use viscosph::scene::Outputs;
+use viscosph::scene::SceneConfig;
 
 /// One row of a drop benchmark.
 #[derive(Debug, Clone)]
@@ -50,7 +51,7 @@ pub fn drop_convergence(
                 "bench: {} {name} at {ppd} particles per diameter ...",
                 cfg.scheme
             );
-            let r = run(&cfg, &opts)?;
+            let r = run(&cfg, &opts, &crate::predictions::ReferenceModels)?;
             group.push(DropRow {
                 case: name.to_string(),
                 ppd,
@@ -65,7 +66,7 @@ pub fn drop_convergence(
             });
         }
         let finest = group.last().expect("resolutions").series.clone();
-        let d = base.drop_diameter;
+        let d = base.drop.drop_diameter;
         for row in &mut group {
             row.w_diff = max_width_difference(&row.series, &finest, d);
         }
@@ -101,7 +102,7 @@ pub fn bench_drop(out: &Path, quick: bool) -> Result<String, Box<dyn std::error:
     std::fs::write(out.join("drop.md"), &md)?;
     let cfg = SceneConfig::default();
     let ts = time_scale(&cfg);
-    let d = cfg.drop_diameter;
+    let d = cfg.drop.drop_diameter;
     let mut panels = Vec::new();
     for (name, _) in fang_cases() {
         panels.push(Panel {
@@ -116,7 +117,7 @@ pub fn bench_drop(out: &Path, quick: bool) -> Result<String, Box<dyn std::error:
                     points: r
                         .series
                         .iter()
-                        .map(|(t, o)| (t / ts, o.drop_width / d))
+                        .map(|(t, o)| (t / ts, o.shared.drop_width / d))
                         .collect(),
                 })
                 .collect(),

@@ -6,8 +6,9 @@ use super::{case, convergence_order, machine_description, max_width_difference};
 use crate::run::time_scale;
 use std::fmt::Write as _;
 use std::path::Path;
-use viscosph::config::{SceneConfig, Value};
-use viscosph::diagnostics::Outputs;
+use viscosph::config::Value;
+use viscosph::scene::Outputs;
+use viscosph::scene::SceneConfig;
 use viscosph::simulation::Simulation;
 
 /// King & Lind 2021 section IV.C's drop under ISPH: W = 2 cm, centre W above the plate,
@@ -31,7 +32,7 @@ struct IsphRun {
     steps: u64,
     particles: usize,
     iterations: [u64; 2],
-    timings: viscosph::scheme::isph::IsphTimings,
+    timings: viscosph::scheme::Timings,
 }
 
 impl IsphRun {
@@ -39,14 +40,14 @@ impl IsphRun {
     fn w_star_end(&self) -> f64 {
         self.series
             .last()
-            .map_or(f64::NAN, |(_, o)| o.drop_width / 0.02)
+            .map_or(f64::NAN, |(_, o)| o.shared.drop_width / 0.02)
     }
 
     /// The largest |volume_error| over the outputs.
     fn max_volume_error(&self) -> f64 {
         self.series
             .iter()
-            .map(|(_, o)| o.volume_error.abs())
+            .map(|(_, o)| o.shared.volume_error.abs())
             .fold(0.0, f64::max)
     }
 }
@@ -65,7 +66,7 @@ fn isph_run(cfg: &SceneConfig, t_star_end: f64) -> Result<IsphRun, Box<dyn std::
         steps: st.step,
         particles: st.fluid.len(),
         iterations: st.solver_iterations,
-        timings: sim.scheme_timings().unwrap_or_default(),
+        timings: sim.scheme_timings(),
     })
 }
 
@@ -94,7 +95,7 @@ pub fn bench_isph(out: &Path, quick: bool) -> Result<String, Box<dyn std::error:
         } else {
             (
                 format!("{:.1}", r.iterations[1] as f64 / n),
-                format!("{:.0} %", 100.0 * r.timings.viscous_solve / tot),
+                format!("{:.0} %", 100.0 * r.timings.part("viscous solve") / tot),
             )
         };
         writeln!(
@@ -104,7 +105,7 @@ pub fn bench_isph(out: &Path, quick: bool) -> Result<String, Box<dyn std::error:
             r.steps,
             r.wall,
             r.iterations[0] as f64 / n,
-            100.0 * r.timings.pressure_solve / tot,
+            100.0 * r.timings.part("pressure solve") / tot,
             100.0 * vmax,
             r.error.as_ref().map(|e| format!(" broke down: {e}")).unwrap_or_default()
         )?;
@@ -116,8 +117,8 @@ pub fn bench_isph(out: &Path, quick: bool) -> Result<String, Box<dyn std::error:
             r.wall,
             r.iterations[0],
             r.iterations[1],
-            r.timings.pressure_solve,
-            r.timings.viscous_solve,
+            r.timings.part("pressure solve"),
+            r.timings.part("viscous solve"),
             r.error.clone().unwrap_or_default().replace('"', "'")
         )
     };
@@ -194,7 +195,7 @@ pub fn bench_isph(out: &Path, quick: bool) -> Result<String, Box<dyn std::error:
             for k in 0..runs.iter().map(|r| r.series.len()).min().unwrap_or(0) {
                 write!(series, "{:.3}", runs[0].series[k].0 / 0.02)?;
                 for r in &runs {
-                    write!(series, ",{:.5}", r.series[k].1.drop_width / 0.02)?;
+                    write!(series, ",{:.5}", r.series[k].1.shared.drop_width / 0.02)?;
                 }
                 series.push('\n');
             }

@@ -15,8 +15,9 @@
 use crate::run::{run, RunOptions};
 use std::fmt::Write as _;
 use std::path::Path;
-use viscosph::config::{Scene, SceneConfig, Value};
+use viscosph::config::Value;
 use viscosph::scene::jet::buckling;
+use viscosph::scene::{SceneConfig, SceneKind};
 use viscosph_reference::analytic::falling_sheet;
 
 const D: f64 = 0.006;
@@ -25,7 +26,7 @@ const U0: f64 = 0.2;
 /// King & Lind's jet (the scene's defaults) under `scheme` with `model` settings and the
 /// nozzle `h_over_d` widths above the plate.
 fn jet(scheme: &str, h_over_d: f64, model: &[(&str, Value)]) -> SceneConfig {
-    let mut c = SceneConfig::for_scene(Scene::Jet);
+    let mut c = SceneConfig::for_scene(SceneKind::Jet);
     let mut pairs: Vec<(&str, Value)> = vec![
         ("scheme", Value::Text(scheme.into())),
         ("nozzle_height", Value::Real(h_over_d * D)),
@@ -139,10 +140,10 @@ pub const CONTACT_FORCE: f64 = 1e-3;
 /// arrival King & Lind's "reaches the plate earlier" compares, sharper than
 /// [`viscosph::scene::jet::Buckling::impact`] (the first output with a heap, which waits for
 /// fluid to slow down on the plate). None if never.
-pub fn contact(series: &[(f64, viscosph::diagnostics::Outputs)]) -> Option<f64> {
+pub fn contact(series: &[(f64, viscosph::scene::Outputs)]) -> Option<f64> {
     series
         .iter()
-        .find(|(_, o)| o.wall_force_normal.abs() > CONTACT_FORCE)
+        .find(|(_, o)| o.shared.wall_force_normal.abs() > CONTACT_FORCE)
         .map(|(t, _)| *t)
 }
 
@@ -163,12 +164,12 @@ pub fn bench_jet(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::
     );
     let mut csv = String::from("case,time,jet_deflection,drop_width,drop_height,injected_mass\n");
     for (label, mut c, end) in cases() {
-        c.particles_per_diameter = ppd;
+        c.numerics.particles_per_diameter = ppd;
         let mut opts = RunOptions::for_scene(&c);
         opts.t_end = if quick { t_end } else { end.unwrap_or(t_end) };
         opts.output_interval = dt_out;
         eprintln!("bench jet: {label} ...");
-        let res = run(&c, &opts)?;
+        let res = run(&c, &opts, &crate::predictions::ReferenceModels)?;
         let b = buckling(&res.series, D);
         let opt = |x: Option<f64>| x.map_or("-".to_string(), |t| format!("{t:.3}"));
         writeln!(
@@ -195,7 +196,10 @@ pub fn bench_jet(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::
             writeln!(
                 csv,
                 "{label},{t:.5e},{:.5e},{:.5e},{:.5e},{:.5e}",
-                o.jet_deflection, o.drop_width, o.drop_height, o.injected_mass
+                o.jet.jet_deflection,
+                o.shared.drop_width,
+                o.shared.drop_height,
+                o.jet.injected_mass
             )?;
         }
     }

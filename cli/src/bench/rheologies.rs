@@ -5,8 +5,9 @@ use super::built_schemes;
 use crate::run::{run, time_scale, RunOptions};
 use std::fmt::Write as _;
 use std::path::Path;
-use viscosph::config::{RheologyKind, SceneConfig, RHEOLOGIES};
-use viscosph::diagnostics::Outputs;
+use viscosph::config::{RheologyKind, RHEOLOGIES};
+use viscosph::scene::Outputs;
+use viscosph::scene::SceneConfig;
 
 /// Fang's drop with each rheology in `RHEOLOGIES` (model parameters at their defaults).
 pub fn rheology_cases() -> Vec<(RheologyKind, SceneConfig)> {
@@ -14,9 +15,10 @@ pub fn rheology_cases() -> Vec<(RheologyKind, SceneConfig)> {
         .iter()
         .filter_map(|(n, _)| RheologyKind::parse(n))
         .map(|r| {
-            let c = SceneConfig {
-                rheology: r,
-                ..Default::default()
+            let c = {
+                let mut c = SceneConfig::default();
+                c.fluid.rheology = r;
+                c
             };
             (r, c)
         })
@@ -34,17 +36,17 @@ pub fn bench_rheologies(out: &Path, quick: bool) -> Result<String, Box<dyn std::
     for scheme in built_schemes() {
         let mut runs = Vec::new();
         for (r, mut c) in rheology_cases() {
-            c.particles_per_diameter = ppd;
+            c.numerics.particles_per_diameter = ppd;
             c.scheme = scheme;
             let opts = RunOptions::for_scene(&c);
             eprintln!("bench rheologies: {scheme} {r} ...");
-            let res = run(&c, &opts)?;
+            let res = run(&c, &opts, &crate::predictions::ReferenceModels)?;
             let ts = time_scale(&c);
-            let d = c.drop_diameter;
+            let d = c.drop.drop_diameter;
             let w: Vec<(f64, f64)> = res
                 .series
                 .iter()
-                .map(|(t, o)| (t / ts, o.drop_width / d))
+                .map(|(t, o)| (t / ts, o.shared.drop_width / d))
                 .collect();
             let (peak_w, peak_t) = match first_peak(&w) {
                 Some((t, w)) => (format!("{w:.3}"), format!("{t:.2}")),
@@ -54,8 +56,8 @@ pub fn bench_rheologies(out: &Path, quick: bool) -> Result<String, Box<dyn std::
             writeln!(
                 md,
                 "| {scheme} | {r} | {peak_w} | {peak_t} | {:.3} | {:.3} | {} | {:.2} | {} |",
-                last.drop_width / d,
-                last.drop_height / d,
+                last.shared.drop_width / d,
+                last.shared.drop_height / d,
                 res.max_trace_text(),
                 res.wall_seconds,
                 res.error_text()
@@ -65,8 +67,8 @@ pub fn bench_rheologies(out: &Path, quick: bool) -> Result<String, Box<dyn std::
                     csv,
                     "{scheme},{r},{t:.6e},{:.4},{:.5},{:.5}",
                     t / ts,
-                    o.drop_width / d,
-                    o.drop_height / d
+                    o.shared.drop_width / d,
+                    o.shared.drop_height / d
                 )?;
             }
             let label = match res.error {

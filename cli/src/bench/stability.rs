@@ -8,7 +8,8 @@ use crate::run::time_scale;
 use clap::Args;
 use std::fmt::Write as _;
 use std::path::Path;
-use viscosph::config::{RheologyKind, SceneConfig, SchemeKind, RHEOLOGIES};
+use viscosph::config::{RheologyKind, RHEOLOGIES};
+use viscosph::scene::{SceneConfig, SchemeKind};
 use viscosph::simulation::Simulation;
 
 /// Options of `viscosph bench stability`.
@@ -127,11 +128,14 @@ pub fn bench_stability(
         "sweep,scheme,rheology,parameter,value,stable,breakdown_t_star,cause,wall_seconds\n",
     );
     let mut md = String::new();
-    let base = |scheme: SchemeKind, rheo: RheologyKind, ppd: i64| SceneConfig {
-        scheme,
-        rheology: rheo,
-        particles_per_diameter: ppd,
-        ..Default::default()
+    let base = |scheme: SchemeKind, rheo: RheologyKind, ppd: i64| {
+        let mut c = SceneConfig {
+            scheme,
+            ..Default::default()
+        };
+        c.fluid.rheology = rheo;
+        c.numerics.particles_per_diameter = ppd;
+        c
     };
     let record = |csv: &mut String,
                   sweep: &str,
@@ -156,7 +160,7 @@ pub fn bench_stability(
         let _ = writeln!(
             csv,
             "{sweep},{},{},{param},{value},{st},{t},\"{cause}\",{w:.3}",
-            c.scheme, c.rheology
+            c.scheme, c.fluid.rheology
         );
     };
 
@@ -191,7 +195,7 @@ pub fn bench_stability(
                         continue;
                     }
                     let mut c = base(scheme, rheo, ppd_de);
-                    c.relaxation_time = de * c.drop_diameter / c.impact_velocity;
+                    c.fluid.relaxation_time = de * c.drop.drop_diameter / c.drop.impact_velocity;
                     eprintln!("bench stability: {scheme} {rheo} De = {de} ...");
                     let o = classify(&c, t_star_end);
                     record(&mut csv, "deborah", &c, "De", de, &o);
@@ -256,7 +260,7 @@ pub fn bench_stability(
             "beta",
             "viscosity_ratio",
             vec![0.5, 0.1, 0.05, 0.01, 0.0],
-            |c, v| c.viscosity_ratio = v,
+            |c, v| c.fluid.viscosity_ratio = v,
             true,
         ),
         (
@@ -265,7 +269,7 @@ pub fn bench_stability(
             // From 75 degrees the default drop (centre 2 D above the impact point) starts
             // within a particle spacing of the plate: validation refuses it.
             vec![0.0, 15.0, 30.0, 45.0, 60.0, 70.0],
-            |c, v| c.plate_inclination = v,
+            |c, v| c.plate.plate_inclination = v,
             true,
         ),
         (
@@ -274,8 +278,8 @@ pub fn bench_stability(
             vec![0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 50.0],
             |c, v| {
                 // keep De = 1 as V changes
-                c.relaxation_time = c.drop_diameter / v;
-                c.impact_velocity = v;
+                c.fluid.relaxation_time = c.drop.drop_diameter / v;
+                c.drop.impact_velocity = v;
             },
             true,
         ),
@@ -283,7 +287,7 @@ pub fn bench_stability(
             "resolution",
             "particles_per_diameter",
             vec![12.0, 16.0, 20.0, 30.0, 40.0, 60.0],
-            |c, v| c.particles_per_diameter = v as i64,
+            |c, v| c.numerics.particles_per_diameter = v as i64,
             false,
         ),
     ];

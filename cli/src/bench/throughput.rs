@@ -7,7 +7,8 @@ use super::fang_cases;
 use crate::io::plot::{line_panels, Panel, Series};
 use std::fmt::Write as _;
 use std::path::Path;
-use viscosph::config::{SceneConfig, Value};
+use viscosph::config::Value;
+use viscosph::scene::SceneConfig;
 use viscosph::simulation::Simulation;
 
 /// Particles per diameter giving about `n` particles in the disc (pi/4 ppd^2 = n).
@@ -55,7 +56,7 @@ pub fn measure_throughput(
 ) -> Result<Throughput, Box<dyn std::error::Error>> {
     // The simulation runs in its own pool of `threads` workers.
     let mut cfg = cfg.clone();
-    cfg.threads = threads as i64;
+    cfg.numerics.threads = threads as i64;
     let r: Result<Throughput, viscosph::simulation::SimError> = (|| {
         let mut sim = Simulation::new(cfg)?;
         // One tiny step to learn the stable step, then time `steps` steps.
@@ -109,7 +110,7 @@ pub fn bench_throughput(out: &Path, quick: bool) -> Result<String, Box<dyn std::
             let ppd = ppd_for(n);
             cfg.set("particles_per_diameter", Value::Integer(ppd))?;
             // Start one spacing above the plate, moving down: walls are in play from the first step.
-            let h = 0.5 * cfg.drop_diameter + 1.5 * cfg.dx();
+            let h = 0.5 * cfg.drop.drop_diameter + 1.5 * cfg.dx();
             cfg.set("initial_drop_height", Value::Real(h))?;
             let steps = ((2e6 / n) as u64).clamp(6, 400) / if quick { 4 } else { 1 };
             for threads in [1usize, 2] {
@@ -230,7 +231,7 @@ pub fn fmu_overhead(t_end: f64) -> Result<(f64, f64, f64), Box<dyn std::error::E
     let mut sink = 0.0;
     for k in 1..=n {
         sim.advance_to(k as f64 * h)?;
-        sink += sim.outputs().drop_width;
+        sink += sim.outputs().shared.drop_width;
     }
     let chunks = start.elapsed().as_secs_f64();
 

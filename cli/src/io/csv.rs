@@ -2,13 +2,13 @@
 
 use std::io::Write;
 use std::path::Path;
-use viscosph::diagnostics::{Outputs, OUTPUTS};
+use viscosph::scene::{Outputs, OUTPUTS};
 
 /// Write `rows` of (time, outputs) to `path`.
 pub fn write_timeseries(path: &Path, rows: &[(f64, Outputs)]) -> std::io::Result<()> {
     let mut w = std::io::BufWriter::new(std::fs::File::create(path)?);
     write!(w, "time")?;
-    for o in OUTPUTS {
+    for o in OUTPUTS.iter() {
         write!(w, ",{}", o.name)?;
     }
     writeln!(w)?;

@@ -35,8 +35,8 @@
 //! plate until it touches it. The SPH "contact" (first wall force: the head within a kernel
 //! support of the wall particles) comes a little (about 2 dx / v) before the model's arrival.
 
-use viscosph::config::SceneConfig;
 use viscosph::rheology::{advance, AnyRheology, ConformationMethod, Rheology};
+use viscosph::scene::SceneConfig;
 use viscosph::Mat2;
 
 /// Elements per jet width that `viscosph run` and `viscosph bench jet` use: within 0.4 % of
@@ -71,11 +71,11 @@ fn arrival_with<R: Rheology>(
     t_max: f64,
 ) -> Option<SheetArrival> {
     let (rho, d, u0, g, h) = (
-        cfg.density,
-        cfg.jet_width,
-        cfg.jet_velocity,
-        cfg.gravity,
-        cfg.nozzle_height,
+        cfg.fluid.density,
+        cfg.jet.jet_width,
+        cfg.jet.jet_velocity,
+        cfg.fluid.gravity,
+        cfg.jet.nozzle_height,
     );
     let dx0 = d / per_width.max(1) as f64;
     let dm = rho * d * dx0;
@@ -151,22 +151,25 @@ fn arrival_with<R: Rheology>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use viscosph::config::{RheologyKind, Scene};
+    use viscosph::config::RheologyKind;
+    use viscosph::scene::SceneKind;
 
     fn king_lind(rheology: RheologyKind, wi: f64) -> SceneConfig {
-        SceneConfig {
-            rheology,
-            relaxation_time: wi * 0.006 / 0.2,
-            ..SceneConfig::for_scene(Scene::Jet)
+        {
+            let mut c = SceneConfig::for_scene(SceneKind::Jet);
+            c.fluid.rheology = rheology;
+            c.fluid.relaxation_time = wi * 0.006 / 0.2;
+            c
         }
     }
 
     #[test]
     fn an_inviscid_limit_falls_freely() {
         // A nearly inviscid sheet falls like a point mass: H = U0 t + g t^2 / 2.
-        let c = SceneConfig {
-            viscosity: 1e-6,
-            ..king_lind(RheologyKind::Newtonian, 0.0)
+        let c = {
+            let mut c = king_lind(RheologyKind::Newtonian, 0.0);
+            c.fluid.viscosity = 1e-6;
+            c
         };
         let a = arrival(&c, 10, 1.0).unwrap();
         let (u0, g, h): (f64, f64, f64) = (0.2, 9.81, 0.072);

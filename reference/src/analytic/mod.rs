@@ -15,7 +15,7 @@
 //! Scales used throughout: U = rho g H^2 / (8 eta0) (Newtonian centre-line velocity, the U of
 //! King & Lind section IV.A), Re = rho U H / eta0, Wi = lambda U / H.
 //!
-//! [`SceneConfig`]: viscosph::config::SceneConfig
+//! [`SceneConfig`]: viscosph::scene::SceneConfig
 
 pub mod falling_sheet;
 pub mod quadrature;
@@ -108,14 +108,14 @@ impl Channel {
     /// The channel of a scene configuration (`density`, `viscosity`, `viscosity_ratio`,
     /// `relaxation_time`) with the given width and body force, the model's parameters as
     /// configured (UCM and Newtonian limits are the caller's to apply).
-    pub fn from_config(cfg: &viscosph::config::SceneConfig, width: f64, body_force: f64) -> Self {
+    pub fn from_config(cfg: &viscosph::scene::SceneConfig, width: f64, body_force: f64) -> Self {
         Channel {
-            density: cfg.density,
+            density: cfg.fluid.density,
             body_force,
             width,
-            viscosity: cfg.viscosity,
-            viscosity_ratio: cfg.viscosity_ratio,
-            relaxation_time: cfg.relaxation_time,
+            viscosity: cfg.fluid.viscosity,
+            viscosity_ratio: cfg.fluid.viscosity_ratio,
+            relaxation_time: cfg.fluid.relaxation_time,
         }
     }
 

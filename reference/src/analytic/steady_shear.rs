@@ -58,10 +58,11 @@
 
 use super::quadrature;
 use super::{AnalyticError, Channel};
-use viscosph::config::{RheologyKind, SceneConfig};
+use viscosph::config::RheologyKind;
+use viscosph::scene::SceneConfig;
 
 /// A constitutive model with its own parameter (King & Lind 2021 Table I; names as in
-/// `config.rs`: `fene_L2`, `ptt_epsilon`, `giesekus_alpha`). UCM is [`SteadyModel::OldroydB`]
+/// the parameter table: `fene_L2`, `ptt_epsilon`, `giesekus_alpha`). UCM is [`SteadyModel::OldroydB`]
 /// with beta = 0.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum SteadyModel {
@@ -284,7 +285,7 @@ impl SteadyChannel {
         body_force: f64,
     ) -> Result<Self, AnalyticError> {
         let mut ch = Channel::from_config(cfg, width, body_force);
-        let model = match cfg.rheology {
+        let model = match cfg.fluid.rheology {
             RheologyKind::Newtonian => {
                 ch.viscosity_ratio = 1.0;
                 ch.relaxation_time = 0.0;
@@ -295,16 +296,20 @@ impl SteadyChannel {
                 ch.viscosity_ratio = 0.0;
                 SteadyModel::OldroydB
             }
-            RheologyKind::FeneCr => SteadyModel::FeneCr { l2: cfg.fene_L2 },
-            RheologyKind::FeneP => SteadyModel::FeneP { l2: cfg.fene_L2 },
+            RheologyKind::FeneCr => SteadyModel::FeneCr {
+                l2: cfg.fluid.fene_L2,
+            },
+            RheologyKind::FeneP => SteadyModel::FeneP {
+                l2: cfg.fluid.fene_L2,
+            },
             RheologyKind::PttLinear => SteadyModel::PttLinear {
-                epsilon: cfg.ptt_epsilon,
+                epsilon: cfg.fluid.ptt_epsilon,
             },
             RheologyKind::PttExponential => SteadyModel::PttExponential {
-                epsilon: cfg.ptt_epsilon,
+                epsilon: cfg.fluid.ptt_epsilon,
             },
             RheologyKind::Giesekus => SteadyModel::Giesekus {
-                alpha: cfg.giesekus_alpha,
+                alpha: cfg.fluid.giesekus_alpha,
             },
             RheologyKind::Cross => {
                 return Err(AnalyticError::Unsupported {
@@ -873,15 +878,16 @@ mod tests {
 
     #[test]
     fn builds_from_the_scene_configuration() {
-        let mut cfg = SceneConfig {
-            density: 1.0,
-            viscosity: 1.0,
-            viscosity_ratio: 0.1,
-            relaxation_time: 1.0,
-            fene_L2: 100.0,
-            ptt_epsilon: 0.25,
-            giesekus_alpha: 0.1,
-            ..SceneConfig::default()
+        let mut cfg = {
+            let mut c = SceneConfig::default();
+            c.fluid.density = 1.0;
+            c.fluid.viscosity = 1.0;
+            c.fluid.viscosity_ratio = 0.1;
+            c.fluid.relaxation_time = 1.0;
+            c.fluid.fene_L2 = 100.0;
+            c.fluid.ptt_epsilon = 0.25;
+            c.fluid.giesekus_alpha = 0.1;
+            c
         };
         for (kind, model) in [
             (RheologyKind::FeneP, SteadyModel::FeneP { l2: 100.0 }),
@@ -899,7 +905,7 @@ mod tests {
             (RheologyKind::Ucm, SteadyModel::OldroydB),
             (RheologyKind::Newtonian, SteadyModel::Newtonian),
         ] {
-            cfg.rheology = kind;
+            cfg.fluid.rheology = kind;
             let s = SteadyChannel::from_config(&cfg, 1.0, 8.0).unwrap();
             assert_eq!(s.model(), model);
             assert_eq!(
@@ -911,10 +917,10 @@ mod tests {
                 }
             );
         }
-        cfg.rheology = RheologyKind::Cross;
+        cfg.fluid.rheology = RheologyKind::Cross;
         assert!(SteadyChannel::from_config(&cfg, 1.0, 8.0).is_err());
-        cfg.rheology = RheologyKind::FeneP;
-        cfg.fene_L2 = 2.0;
+        cfg.fluid.rheology = RheologyKind::FeneP;
+        cfg.fluid.fene_L2 = 2.0;
         assert!(SteadyChannel::from_config(&cfg, 1.0, 8.0).is_err());
     }
 }

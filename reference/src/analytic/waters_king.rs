@@ -68,7 +68,8 @@
 use super::quadrature;
 use super::{AnalyticError, Channel};
 use std::f64::consts::PI;
-use viscosph::config::{RheologyKind, SceneConfig};
+use viscosph::config::RheologyKind;
+use viscosph::scene::SceneConfig;
 
 /// A local extremum of the centre-line velocity in time.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -182,7 +183,7 @@ impl WatersKing {
         body_force: f64,
     ) -> Result<Self, AnalyticError> {
         let mut ch = Channel::from_config(cfg, width, body_force);
-        match cfg.rheology {
+        match cfg.fluid.rheology {
             RheologyKind::OldroydB => {}
             RheologyKind::Ucm => ch.viscosity_ratio = 0.0,
             RheologyKind::Newtonian => {
@@ -970,17 +971,18 @@ mod tests {
 
     #[test]
     fn builds_from_the_scene_configuration() {
-        let mut cfg = SceneConfig {
-            density: 1.0,
-            viscosity: 1.0,
-            viscosity_ratio: 0.1,
-            relaxation_time: 1.0,
-            rheology: RheologyKind::OldroydB,
-            ..SceneConfig::default()
+        let mut cfg = {
+            let mut c = SceneConfig::default();
+            c.fluid.density = 1.0;
+            c.fluid.viscosity = 1.0;
+            c.fluid.viscosity_ratio = 0.1;
+            c.fluid.relaxation_time = 1.0;
+            c.fluid.rheology = RheologyKind::OldroydB;
+            c
         };
         let wk = WatersKing::from_config(&cfg, 1.0, 8.0).unwrap();
         assert!((wk.centreline_velocity(1.0) - 1.55704).abs() < 1e-5);
-        cfg.rheology = RheologyKind::Ucm;
+        cfg.fluid.rheology = RheologyKind::Ucm;
         assert_eq!(
             WatersKing::from_config(&cfg, 1.0, 8.0)
                 .unwrap()
@@ -988,10 +990,10 @@ mod tests {
                 .viscosity_ratio,
             0.0
         );
-        cfg.rheology = RheologyKind::Newtonian;
+        cfg.fluid.rheology = RheologyKind::Newtonian;
         let n = WatersKing::from_config(&cfg, 1.0, 8.0).unwrap();
         assert_eq!(n.elasticity(), 0.0);
-        cfg.rheology = RheologyKind::FeneP;
+        cfg.fluid.rheology = RheologyKind::FeneP;
         assert!(matches!(
             WatersKing::from_config(&cfg, 1.0, 8.0),
             Err(AnalyticError::Unsupported { .. })

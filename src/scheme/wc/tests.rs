@@ -1,20 +1,26 @@
 //! Unit tests of the weakly compressible rate evaluation.
 
 use super::*;
-use crate::config::SceneConfig;
 use crate::kernel::CubicSpline;
 use crate::rheology::OldroydB;
+use crate::SceneConfig; // test code: the lib root re-export
 
 fn params(dx: f64, evss_alpha: f64) -> Params {
-    let cfg = SceneConfig {
-        artificial_viscosity_alpha: 0.0,
-        artificial_viscosity_beta: 0.0,
-        artificial_stress_epsilon: 0.0,
-        gravity: 0.0,
-        evss_alpha,
-        ..Default::default()
+    let cfg = {
+        let mut c = SceneConfig::default();
+        c.numerics.artificial_viscosity_alpha = 0.0;
+        c.numerics.artificial_viscosity_beta = 0.0;
+        c.numerics.artificial_stress_epsilon = 0.0;
+        c.fluid.gravity = 0.0;
+        c.numerics.evss_alpha = evss_alpha;
+        c
     };
-    let mut p = Params::from_config(&cfg);
+    let mut p = Params::new(
+        &cfg.fluid,
+        &cfg.numerics,
+        cfg.dx(),
+        cfg.resolved_sound_speed(),
+    );
     p.dx = dx;
     p
 }
