@@ -134,3 +134,31 @@ def test_channel_coarsest_level():
     assert s.results["unknowns"] == stored["unknowns"]
     assert s.results["drag"] == pytest.approx(stored["drag"], rel=1e-8)
     assert s.results["flow_rate"] == pytest.approx(4.0, rel=1e-12)
+
+
+def test_oldroyd_b_coarsest_level_and_stored_convergence():
+    """The Oldroyd-B (beta = 0.59) reference: level 0 at lam = 0.2 s re-solved (~5 s), and the
+    stored levels converging."""
+    import oldroyd_b_fem as ob
+
+    kl = fem.KL
+    model = ob.OldroydB(
+        fem.kl_geometry(), kl["rho"], 0.59 * kl["eta0"], 0.41 * kl["eta0"], kl["g"], 0
+    )
+    r = ob.sweep(model, targets=(0.2,))[0.2][0]
+    rows = table("oldroyd_b_convergence.csv")
+    stored = [row for row in rows if row["lam"] == 0.2 and row["level"] == 0][0]
+    assert len(model.free) == stored["unknowns"], "a different mesh than the stored one"
+    for key in ("drag", "flow_rate", "u_mean_fluid", "K_fluid"):
+        assert r[key] == pytest.approx(stored[key], rel=1e-7), key
+    # elasticity reduces the drag at fixed body force (Wi = 0.21): K below the Newtonian 92.94
+    newtonian = table("convergence_stokes.csv")[0]
+    assert r["K_fluid"] < newtonian["K_fluid"] - 2.0
+    assert r["Wi"] == pytest.approx(0.2 * r["u_mean_fluid"], rel=1e-12)
+    # the stored levels converge monotonically, at an order of at least 2
+    sub = [row for row in rows if row["lam"] == 0.2]
+    assert len(sub) >= 4
+    errors = [abs(row["error_K_fluid"]) for row in sub[:-1]]
+    assert all(b < a for a, b in zip(errors, errors[1:]))
+    assert all(row["order_K_fluid"] > 2.0 for row in sub[2:])
+    assert abs(sub[-2]["error_K_fluid"]) < 1e-4

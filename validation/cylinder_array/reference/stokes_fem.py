@@ -428,10 +428,9 @@ def evaluate(sol: Solution, pts):
     return out
 
 
-def postprocess(sol: Solution, A, f, inertia):
+def flow_measures(ub, u):
+    """Fluid area, mean of u_x over it, and the flux Q through x = x0 (per unit depth)."""
     from skfem import FacetBasis, Functional
-
-    geo, phys = sol.geo, sol.phys
 
     @Functional
     def ux(w):
@@ -445,10 +444,15 @@ def postprocess(sol: Solution, A, f, inertia):
     def inflow(w):
         return -(w.u[0] * w.n[0] + w.u[1] * w.n[1])  # through x = x0, n = -e_x
 
-    area = one.assemble(sol.ub)
-    u_fluid = ux.assemble(sol.ub, u=sol.ub.interpolate(sol.u)) / area
-    fb = FacetBasis(sol.mesh, sol.ub.elem, facets=sol.mesh.boundaries["left"], intorder=6)
-    Q = inflow.assemble(fb, u=fb.interpolate(sol.u))
+    area = one.assemble(ub)
+    u_fluid = ux.assemble(ub, u=ub.interpolate(u)) / area
+    fb = FacetBasis(ub.mesh, ub.elem, facets=ub.mesh.boundaries["left"], intorder=6)
+    return area, u_fluid, inflow.assemble(fb, u=fb.interpolate(u))
+
+
+def postprocess(sol: Solution, A, f, inertia):
+    geo, phys = sol.geo, sol.phys
+    area, u_fluid, Q = flow_measures(sol.ub, sol.u)
     u_bulk = Q / geo.H
     Fx, Fy = _reaction(sol, A, f, ["cylinder"], inertia)
     Wx, _ = _reaction(sol, A, f, ["bottom", "top"], inertia)
