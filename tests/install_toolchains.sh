@@ -3,7 +3,8 @@
 # run installs nothing):
 # - Debian packages: libclang-dev (bindgen in the `fmi` crate's fmi-sys), mingw-w64 (linker of
 #   the win64 DLL and of the Windows test importer), wine (runs that importer), libtbb12
-#   (ecospy's native library);
+#   (ecospy's native library), libglu1-mesa libxcursor1 libxinerama1 libxft2 (libraries the PyPI
+#   gmsh wheel links against, for tests/python/test_cylinder_reference.py);
 # - the Rust standard library for x86_64-pc-windows-gnu (rustup; offline it may be impossible:
 #   then the FMU is built without win64 and fmu-build says so);
 # - the Python venv .venv (tests/python/setup_venv.sh), which also holds PyPI's cargo-zigbuild
@@ -14,7 +15,7 @@ cd "$(dirname "$0")/.."
 as_root() { if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi; }
 
 missing=()
-for pkg in libclang-dev mingw-w64 wine wine64 libtbb12; do
+for pkg in libclang-dev mingw-w64 wine wine64 libtbb12 libglu1-mesa libxcursor1 libxinerama1 libxft2; do
     dpkg -s "$pkg" >/dev/null 2>&1 || missing+=("$pkg")
 done
 if [ ${#missing[@]} -gt 0 ]; then
