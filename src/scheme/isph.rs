@@ -244,6 +244,7 @@
 //!   keep the free-surface p = 0 of their edges: that fixes the pressure level when the nozzle
 //!   holds all the fluid (t = 0, or a closed valve after the jet has left).
 
+use super::health;
 use super::params::Params;
 use super::ppe::{self, GhostLink, SolverOptions};
 use super::Scheme;
@@ -256,7 +257,6 @@ use crate::config::{ConformationMethod, IsphFrame, IsphFreeSurface, Numerics, Vi
 use crate::kernel::{Kernel, QuinticSpline};
 use crate::neighbors::{CellGrid, NeighborList};
 use crate::operators::{correction, shifting, surface};
-use crate::particles::Fluid;
 use crate::rheology::{self, logconf, Evss, Rheology};
 use crate::state::State;
 use crate::{Mat2, Vec2};
@@ -267,8 +267,6 @@ use std::time::Instant;
 pub const H_OVER_DX: f64 = 1.3;
 /// The coefficient of King & Lind eq. (28) per unit `time_step_factor` (0.3 -> 0.2).
 const DT_COEF_PER_FACTOR: f64 = 2.0 / 3.0;
-/// A particle this far below a plate (in spacings) after the reflection has gone through it.
-const PENETRATION_DEPTH: f64 = 0.5;
 /// Relaxation coefficient of the density-invariant PPE source (module documentation).
 const DENSITY_INVARIANCE: f64 = 0.05;
 /// Relaxation coefficient of the same source on the near-surface particles, against the
@@ -1575,8 +1573,17 @@ impl<R: Rheology> Scheme for Isph<R> {
         st.solver_iterations[0] += iters[0];
         st.solver_iterations[1] += iters[1];
         st.last_dt = dt_stable;
-        check_health(&st.fluid, &st.walls, dx, self.p.domain_radius)?;
-        st.void_fraction = super::health::fluid_void_fraction(&st.fluid, st.walls.first(), dx);
+        // No density to check, and no tensile instability to act on: the void fraction is
+        // reported, not acted on.
+        health::check_particles(
+            &st.fluid,
+            &st.walls,
+            dx,
+            self.p.domain_radius,
+            R::ELASTIC,
+            None,
+        )?;
+        st.void_fraction = health::fluid_void_fraction(&st.fluid, st.walls.first(), dx);
         self.timings.total += t_start.elapsed().as_secs_f64();
         Ok(dt)
     }
@@ -1651,35 +1658,4 @@ fn surface_pressure(
         return 0.0;
     }
     (-num / den * depth).clamp(0.0, p_max)
-}
-
-/// Health of an incompressible state: finite values, no particle through a plate or out of the
-/// domain. (No density to check, and no tensile instability to detect: the void fraction is
-/// reported, not acted on.)
-fn check_health(fl: &Fluid, walls: &[Plate], dx: f64, domain_radius: f64) -> Result<(), String> {
-    for i in 0..fl.len() {
-        if !(fl.x[i].iter().all(|x| x.is_finite())
-            && fl.v[i].iter().all(|x| x.is_finite())
-            && fl
-                .conf
-                .get(i)
-                .is_none_or(|a| a.iter().all(|x| x.is_finite())))
-        {
-            return Err(format!(
-                "non-finite value (NaN or Inf) on fluid particle {i}"
-            ));
-        }
-        if fl.x[i].norm() > domain_radius {
-            return Err(format!(
-                "particle {i} escaped the domain (|x| = {:.3e} m)",
-                fl.x[i].norm()
-            ));
-        }
-        for pl in walls {
-            if pl.d(&fl.x[i]) < -PENETRATION_DEPTH * dx {
-                return Err(format!("particle {i} went through the plate"));
-            }
-        }
-    }
-    Ok(())
 }
