@@ -256,6 +256,8 @@ use crate::boundary::Boundary;
 use crate::config::{ConformationMethod, IsphFrame, IsphFreeSurface, Numerics, ViscousStep};
 use crate::kernel::{Kernel, QuinticSpline};
 use crate::neighbors::{CellGrid, NeighborList};
+use crate::operators::kinematics::corrected_velocity_gradients;
+use crate::operators::pairs::PairCache;
 use crate::operators::{correction, shifting, surface};
 use crate::rheology::{self, logconf, Evss, Rheology};
 use crate::state::State;
@@ -369,6 +371,8 @@ pub struct Isph<R: Rheology> {
     walls: Vec<MirrorWall>,
     /// Positions of fluid (r*) then mirrors, of the last step.
     all_x: Vec<Vec2>,
+    /// Kernel values of the last step's pairs (full layout).
+    pairs: PairCache,
     /// Kernel sum `sum_j V W_ij` of a particle inside an unbounded square lattice.
     c_lattice: f64,
     /// Its share below a straight surface row (near-surface density-invariant source).
@@ -423,6 +427,7 @@ impl<R: Rheology> Isph<R> {
             solver: SolverOptions::default(),
             walls: plates.iter().map(|_| MirrorWall::new(reach)).collect(),
             all_x: Vec::new(),
+            pairs: PairCache::default(),
             c_lattice,
             half_lattice,
             normal_stress: free_surface
@@ -625,17 +630,9 @@ fn lattice_concentration<K: Kernel>(kernel: &K, dx: f64) -> f64 {
     c * dx * dx
 }
 
-/// Per-pair kernel data of one step, aligned with the neighbour lists' flat pair arrays.
-struct Pairs {
-    /// grad_i W_ij (zero for the self pair and outside the support).
-    grad: Vec<Vec2>,
-    /// Morris coefficient 2 V_j (1/r) dW/dr (King & Lind eq. (21)), uncorrected.
-    morris: Vec<f64>,
-}
-
-/// What one fused pass over the neighbour lists gives (step 2 of the module documentation).
+/// What one fused pass over the neighbour lists gives besides the pair cache (step 2 of the
+/// module documentation).
 struct NeighbourSums {
-    pairs: Pairs,
     /// Bonet & Lok correction matrices L_i (King & Lind eq. (22)).
     l: Vec<Mat2>,
     /// Free surface and normals (eqs. (36)-(39)), with a free surface.
@@ -646,7 +643,7 @@ struct NeighbourSums {
     grad_c_q: Vec<Vec2>,
 }
 
-/// The pair data (gradients and Morris coefficients), the moment matrices, the sums of the
+/// The pair cache `pairs` (gradients and Morris coefficients, full layout), the moment matrices, the sums of the
 /// free-surface detection and the shifting's concentration gradient of every fluid particle, in
 /// one pass over its neighbour list that evaluates the kernel once per pair. Before, five
 /// passes (`pair_data`, `correction::correction_matrices`, `surface::detect`,
@@ -655,6 +652,7 @@ struct NeighbourSums {
 /// are bitwise those of the separate passes. `shift_dr` = Some(dr) computes the shifting sums.
 #[allow(clippy::too_many_arguments)]
 fn neighbour_sums(
+    pairs: &mut PairCache,
     x: &[Vec2],
     vols: &[f64],
     nl: &NeighborList,
@@ -664,10 +662,9 @@ fn neighbour_sums(
     free_surface: bool,
     shift_dr: Option<f64>,
 ) -> NeighbourSums {
-    let mut grad = vec![Vec2::zeros(); nl.pairs()];
-    let mut morris = vec![0.0; nl.pairs()];
-    let gs = nl.split_mut(&mut grad);
-    let ms = nl.split_mut(&mut morris);
+    pairs.reset_full(nl);
+    let gs = nl.split_mut(&mut pairs.grad);
+    let ms = nl.split_mut(&mut pairs.morris);
     let inv_h = 1.0 / k.h();
     let (w_dr, alpha, dr) = match shift_dr {
         Some(dr) => (k.w(dr), shifting::cohesion_alpha(k.h()), dr),
@@ -727,37 +724,11 @@ fn neighbour_sums(
         (Vec::new(), Vec::new())
     };
     NeighbourSums {
-        pairs: Pairs { grad, morris },
         l,
         surface,
         grad_c,
         grad_c_q,
     }
-}
-
-/// Corrected velocity gradients kappa_ab = d u_a / d x_b (King & Lind eq. (20), negative form,
-/// L_i of eq. (22)) of the field `u` over fluid and mirrors.
-fn velocity_gradients(
-    n: usize,
-    u: &[Vec2],
-    vol: f64,
-    nl: &NeighborList,
-    pairs: &Pairs,
-    l: &[Mat2],
-) -> Vec<Mat2> {
-    (0..n)
-        .into_par_iter()
-        .with_min_len(MIN_TASK)
-        .map(|i| {
-            let off = nl.offset(i);
-            let mut k = Mat2::zeros();
-            for (kk, &j) in nl.of(i).iter().enumerate() {
-                let g = pairs.grad[off + kk];
-                k += (u[j as usize] - u[i]) * g.transpose();
-            }
-            k * l[i].transpose() * vol
-        })
-        .collect()
 }
 
 impl<R: Rheology> Scheme for Isph<R> {
@@ -832,7 +803,9 @@ impl<R: Rheology> Scheme for Isph<R> {
         let grid = CellGrid::build(all_x, radius, &dom);
         let nl = NeighborList::build(&grid, all_x, &xs, radius, &dom);
         let vols = vec![vol; all_x.len()];
+        let pairs = &mut self.pairs;
         let sums = neighbour_sums(
+            pairs,
             all_x,
             &vols,
             &nl,
@@ -842,7 +815,8 @@ impl<R: Rheology> Scheme for Isph<R> {
             self.free_surface,
             lagrangian.then_some(dx),
         );
-        let (pairs, mut l, surf) = (sums.pairs, sums.l, sums.surface);
+        let pairs = &self.pairs;
+        let (mut l, surf) = (sums.l, sums.surface);
         // Free-surface particles take the uncorrected gradient (module documentation).
         if let Some(s) = &surf {
             for (li, &fs) in l.iter_mut().zip(&s.is_surface) {
@@ -910,7 +884,7 @@ impl<R: Rheology> Scheme for Isph<R> {
             .collect();
 
         // Step 3: the conformation tensor to n + 1/2 (section III.B).
-        let kappa = velocity_gradients(n, &u_n, vol, &nl, &pairs, &l);
+        let kappa = corrected_velocity_gradients(n, &u_n, vol, &nl, pairs, &l);
         let conf: Vec<Mat2> = if R::ELASTIC {
             let log = self.method == ConformationMethod::Log;
             // The field the ALE term advects: Psi = log A, or A for the direct update.
@@ -1127,12 +1101,7 @@ impl<R: Rheology> Scheme for Isph<R> {
         // s_i = sum_j V_j grad_i W_ij: about -n / delta where the support is truncated, zero
         // in a full lattice support; the surface traction's weight (module documentation,
         // "Free-surface traction").
-        let surface_sum = |i: usize| -> Vec2 {
-            let off = nl.offset(i);
-            pairs.grad[off..off + nl.of(i).len()]
-                .iter()
-                .fold(Vec2::zeros(), |a, g| a + g * vol)
-        };
+        let surface_sum = |i: usize| -> Vec2 { pairs.gradient_sum(&nl, i, vol) };
         // The surface traction is not a pair force, so its sum does not cancel; a free surface
         // exerts no net force, so the mean over the free (not held) particles is removed.
         let mean_over_free = |v: &[Vec2]| -> Vec2 {
@@ -1289,7 +1258,7 @@ impl<R: Rheology> Scheme for Isph<R> {
         // Step 5: the PPE (25) with the free-surface pressure of (35a).
         let t0 = Instant::now();
         let us_all = extend_u(&u_star);
-        let kappa_star = velocity_gradients(n, &us_all, vol, &nl, &pairs, &l);
+        let kappa_star = corrected_velocity_gradients(n, &us_all, vol, &nl, pairs, &l);
         let mut b: Vec<f64> = kappa_star
             .iter()
             .enumerate()
@@ -1506,11 +1475,9 @@ impl<R: Rheology> Scheme for Isph<R> {
             .map(|i| {
                 let off = nl.offset(i);
                 let (mut f, mut fw) = (Vec2::zeros(), Vec2::zeros());
-                let mut s_i = Vec2::zeros();
                 for (kk, &j) in nl.of(i).iter().enumerate() {
                     let j = j as usize;
                     let a = pairs.grad[off + kk] * ((p_all[i] + p_all[j]) * (-vol / rho));
-                    s_i += pairs.grad[off + kk] * vol;
                     if j < n {
                         f += a;
                     } else {
@@ -1520,7 +1487,7 @@ impl<R: Rheology> Scheme for Isph<R> {
                 // The positive form of p - p_s: the pressure beyond the surface continues as
                 // 2 p_s - p_i, not -p_i (module documentation, "Free-surface pressure").
                 let surface = match p_ghost.get(i) {
-                    Some(&ps) if !is_held(i) => s_i * (2.0 * ps / rho),
+                    Some(&ps) if !is_held(i) => surface_sum(i) * (2.0 * ps / rho),
                     _ => Vec2::zeros(),
                 };
                 (f + fw + surface, fw, surface)
