@@ -368,7 +368,9 @@ pub struct Isph<R: Rheology> {
     dt_coef: f64,
     rho: f64,
     solver: SolverOptions,
-    walls: Vec<MirrorWall>,
+    /// One wall model per plate of the state, in the state's order: King & Lind's mirror
+    /// particles ([`MirrorWall`]), read only through the [`Boundary`] trait.
+    walls: Vec<Box<dyn Boundary>>,
     /// Positions of fluid (r*) then mirrors, of the last step.
     all_x: Vec<Vec2>,
     /// Kernel values of the last step's pairs (full layout).
@@ -425,7 +427,10 @@ impl<R: Rheology> Isph<R> {
             dt_coef: DT_COEF_PER_FACTOR * cfg.time_step_factor,
             rho: p.eos.rho0,
             solver: SolverOptions::default(),
-            walls: plates.iter().map(|_| MirrorWall::new(reach)).collect(),
+            walls: plates
+                .iter()
+                .map(|_| Box::new(MirrorWall::new(reach)) as Box<dyn Boundary>)
+                .collect(),
             all_x: Vec::new(),
             pairs: PairCache::default(),
             c_lattice,
@@ -790,12 +795,21 @@ impl<R: Rheology> Scheme for Isph<R> {
         {
             let fluid_grid = CellGrid::build(&xs, radius, &dom);
             for (wall, plate) in self.walls.iter_mut().zip(st.walls.iter_mut()) {
+                let before = self.all_x.len();
                 wall.place(plate, &xs, &fluid_grid, radius, &mut self.all_x);
-                let uw = plate.wall_velocity();
+                // Every virtual particle follows one fluid parent: its values are affine in
+                // the parent's in the linear systems below.
+                if wall.parents().len() != self.all_x.len() - before {
+                    return Err(
+                        "ISPH needs a wall model whose virtual particles each follow \
+                                one fluid particle (mirror particles)"
+                            .into(),
+                    );
+                }
                 let start = parent.len();
-                parent.extend_from_slice(&wall.mirrors().parent);
+                parent.extend_from_slice(wall.parents());
                 wall_ranges.push((wall_ranges.len(), start..parent.len()));
-                u_wall.extend(std::iter::repeat_n(uw, wall.mirrors().parent.len()));
+                wall.wall_velocities(plate, &mut u_wall);
             }
         }
         let all_x = &self.all_x;
@@ -974,7 +988,11 @@ impl<R: Rheology> Scheme for Isph<R> {
         };
         // Closed channel: the mirrors' Phi continues the fitted shear-stress slope.
         let phi_mirror: Vec<Mat2> = if R::ELASTIC {
-            let mut pm: Vec<Mat2> = parent.iter().map(|&i| phi[i as usize]).collect();
+            // Each wall's model continues Phi across it (mirrors: the parent's, NoSlip).
+            let mut pm = vec![Mat2::zeros(); nm];
+            for ((wall, plate), (_, r)) in self.walls.iter().zip(&st.walls).zip(&wall_ranges) {
+                wall.fill_stresses(plate, &st.fluid, &[], &phi, &mut pm[r.clone()]);
+            }
             if !self.free_surface {
                 for (w, r) in &wall_ranges {
                     let d = wall_profile::shear_stress_corrections(
