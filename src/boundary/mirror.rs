@@ -454,7 +454,7 @@ mod tests {
     /// hydrostatic field everywhere, the rows next to the plate included.
     #[test]
     fn ppe_with_mirrors_holds_the_hydrostatic_pressure() {
-        use crate::scheme::ppe::{
+        use crate::scheme::isph::ppe::{
             assemble_poisson, morris_coefficients, solve, GhostLink, SolverOptions,
         };
         let dr = 0.01;

@@ -244,9 +244,10 @@
 //!   keep the free-surface p = 0 of their edges: that fixes the pressure level when the nozzle
 //!   holds all the fluid (t = 0, or a closed valve after the jet has left).
 
+pub mod ppe;
+
 use super::health;
 use super::params::Params;
-use super::ppe::{self, GhostLink, SolverOptions};
 use super::Scheme;
 use crate::boundary::ghost::keep_above_plate;
 use crate::boundary::mirror::MirrorWall;
@@ -262,6 +263,7 @@ use crate::operators::{correction, shifting, surface};
 use crate::rheology::{self, logconf, Evss, Rheology};
 use crate::state::State;
 use crate::{Mat2, Vec2};
+use ppe::{GhostLink, SolverOptions};
 use rayon::prelude::*;
 use std::time::Instant;
 
