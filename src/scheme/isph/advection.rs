@@ -9,8 +9,8 @@
 //! 1 m/s is not reshuffled ([`super::pressure`], "Volume at W/dr = 40"). The inlet's held
 //! particles move with the inflow, not shifted.
 //!
-//! **Plate contact.** A particle that crosses a plate is reflected back with its normal velocity removed (King's
-//! code reflects it too); the momentum removed counts in the wall force.
+//! **Plate contact.** A particle that crosses a plate is reflected back with its normal velocity
+//! removed (King's code reflects it too); the momentum removed counts in the wall force.
 
 use super::{Context, Isph};
 use crate::boundary::ghost::keep_above_plate;

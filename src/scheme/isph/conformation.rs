@@ -4,26 +4,25 @@
 //! A^n, predicted by a half step), plus the ALE term `dt u_ps . grad Psi` of (31) (of A for the
 //! direct update); then the stress Phi (EVSS) of the fluid and of the virtual particles.
 //!
-//! **Second order in time where it could be measured.** Measured on King & Lind's
-//! channel (Oldroyd-B, Re = 1, beta = 0.1, Wi = 5, Eulerian, 30 across, t = 0..3, centre line
-//! against Waters & King at t = 2.35 / 2.65): the first-order forward-Euler conformation update
-//! (rate at A^{n-1/2}) with backward Euler for the solvent was -4.8 % / -6.0 % at the default
-//! step and -0.9 % at a third of it. With the midpoint conformation update: +1.5 % / +2.2 %
-//! (backward Euler), +1.1 % / +1.6 % (Crank-Nicolson), the same +1.0 % / +1.6 % at a third of
-//! the step and with the explicit viscous step (the rest is spatial: 7 % at 15 across). The
-//! solvent step is the theta method
-//! `(I - theta dt nu lap) u* = (I + (1 - theta) dt nu lap) u^n + dt [...]`: theta = 1/2 in the closed channel (Newtonian start-up: largest centre-line error
-//! 0.2 % against 2.7 % with theta = 1), theta = 1 with a free surface, where Crank-Nicolson's
-//! undamped stiff modes rang: the Newtonian drop of King & Lind IV.C at W/dr = 40 lost 48 % of
-//! its volume by t* = 8 (theta = 0.6: 4.1 %; theta = 1: 1.7 %). In the channel the viscous
-//! term's mirrors continue the wall curvature of the wall's momentum balance,
-//! `mu_w u''_w = -(rho g.t + dPhi_tn/dn)` (no acceleration at a no-slip wall), not the curvature
-//! fitted to u^n (`boundary::wall_profile`): the fitted one is explicit in u and, with Crank-Nicolson,
-//! fed back into the wall row until it ran away (Newtonian wall row 1.78 U, centre line
-//! 1.052 U); backward Euler damped it. What is still first order: the conformation is stored at
-//! the end of the step, not staggered by half a step (symplectic Euler in the coupling of u and
-//! A): at 15 across the centre lines at the default step, a third and a tenth of it differ by
-//! 0.0083 U and 0.0028 U (a ratio of 3).
+//! **Second order in time where it could be measured.** Measured on King & Lind's channel
+//! (Oldroyd-B, Re = 1, beta = 0.1, Wi = 5, Eulerian, 30 across, t = 0..3, centre line against
+//! Waters & King at t = 2.35 / 2.65): the first-order forward-Euler conformation update (rate at
+//! A^{n-1/2}) with backward Euler for the solvent was -4.8 % / -6.0 % at the default step and -0.9
+//! % at a third of it. With the midpoint conformation update: +1.5 % / +2.2 % (backward Euler),
+//! +1.1 % / +1.6 % (Crank-Nicolson), the same +1.0 % / +1.6 % at a third of the step and with the
+//! explicit viscous step (the rest is spatial: 7 % at 15 across). The solvent step is the theta
+//! method `(I - theta dt nu lap) u* = (I + (1 - theta) dt nu lap) u^n + dt [...]`: theta = 1/2 in
+//! the closed channel (Newtonian start-up: largest centre-line error 0.2 % against 2.7 % with theta
+//! = 1), theta = 1 with a free surface, where Crank-Nicolson's undamped stiff modes rang: the
+//! Newtonian drop of King & Lind IV.C at W/dr = 40 lost 48 % of its volume by t* = 8 (theta = 0.6:
+//! 4.1 %; theta = 1: 1.7 %). In the channel the viscous term's mirrors continue the wall curvature
+//! of the wall's momentum balance, `mu_w u''_w = -(rho g.t + dPhi_tn/dn)` (no acceleration at a
+//! no-slip wall), not the curvature fitted to u^n (`boundary::wall_profile`): the fitted one is
+//! explicit in u and, with Crank-Nicolson, fed back into the wall row until it ran away (Newtonian
+//! wall row 1.78 U, centre line 1.052 U); backward Euler damped it. What is still first order: the
+//! conformation is stored at the end of the step, not staggered by half a step (symplectic Euler in
+//! the coupling of u and A): at 15 across the centre lines at the default step, a third and a tenth
+//! of it differ by 0.0083 U and 0.0028 U (a ratio of 3).
 //!
 //! **Eulerian ALE term by three stages.** In the Eulerian frame the ALE term of (31),
 //! `dt u_ps . grad Psi` with u_ps = -u, is the whole advection of the stress: a central

@@ -36,7 +36,7 @@
 //!
 //! **Where p = 0 is imposed.** The surface lies half a layer outside the surface particles'
 //! centres, so a surface particle takes the pressure that far inside the surface,
-//! `depth (-dp/dn)` ([`surface_pressure`], from the last step's pressures of its interior
+//! `depth (-dp/dn)` (`surface_pressure`, from the last step's pressures of its interior
 //! neighbours), with `depth = dx/2` times the surface row's line density
 //! ([`surface::row_density`]: a crowded row stands for a thicker layer). With p = 0 on the
 //! centres the surface row crowded tangentially as the free perimeter shrank (0.81 dx apart at
@@ -44,19 +44,18 @@
 //! Newtonian drop 5.32 %, 1.76 %, 0.62 % at W/dr = 20, 40, 80; now 2.73 %, 1.02 %, 0.39 %
 //! (docs/isph.md, "Volume").
 //!
-//! **Free-surface traction** of the solvent, implicit (King & Lind 2021 eq. (35a)'s viscous
-//! part in a stable form; [`super::ppe::SurfaceTraction`]): Morris et al. 1997's Laplacian (21) sees
-//! a missing neighbour as one with the particle's own velocity, i.e. the normal derivative,
-//! not the traction; the positive form of the divergence of 2 eta D differs from the
-//! difference form by `2 sigma_i s_i`, `s_i = sum_j V grad W_ij`. Every row of the implicit
-//! viscous step takes `(2 eta_i / rho) (G_i + G_i^T) s_i` with the Bonet & Lok 1999 corrected
-//! gradient G_i of the new velocity, both components solved together. Measured on the
-//! extensional mode of a free sheet (exact decay 3.87 nu k^2): 1.74 without, 2.68 with, at
-//! 0.2 ms; the Newtonian Re = 4 drop's W*(8) at W/dr = 40 and a third of the step 1.987 ->
-//! 1.858 (Oldroyd-B at De = 0.1: 1.80), largest |volume_error| at the default step 1.02 % ->
-//! 0.64 % (docs/isph.md). The term is not a pair force; a free surface exerts no net
-//! force, so the term's mean velocity change is removed after the solve (without that, a
-//! slowly settling drop felt 3 % of its weight from it).
+//! **Free-surface traction** of the solvent, implicit (King & Lind 2021 eq. (35a)'s viscous part in
+//! a stable form; [`super::ppe::SurfaceTraction`]): Morris et al. 1997's Laplacian (21) sees a
+//! missing neighbour as one with the particle's own velocity, i.e. the normal derivative, not the
+//! traction; the positive form of the divergence of 2 eta D differs from the difference form by `2
+//! sigma_i s_i`, `s_i = sum_j V grad W_ij`. Every row of the implicit viscous step takes `(2 eta_i
+//! / rho) (G_i + G_i^T) s_i` with the Bonet & Lok 1999 corrected gradient G_i of the new velocity,
+//! both components solved together. Measured on the extensional mode of a free sheet (exact decay
+//! 3.87 nu k^2): 1.74 without, 2.68 with, at 0.2 ms; the Newtonian Re = 4 drop's W*(8) at W/dr = 40
+//! and a third of the step 1.987 -> 1.858 (Oldroyd-B at De = 0.1: 1.80), largest |volume_error| at
+//! the default step 1.02 % -> 0.64 % (docs/isph.md). The term is not a pair force; a free surface
+//! exerts no net force, so the term's mean velocity change is removed after the solve (without
+//! that, a slowly settling drop felt 3 % of its weight from it).
 
 use super::{Context, Isph, MIN_TASK};
 use crate::kernel::{Kernel, QuinticSpline};
@@ -68,12 +67,13 @@ use crate::{Mat2, Vec2};
 use rayon::prelude::*;
 
 /// Weights of the solvent's free-surface traction in the implicit viscous step
-/// ([`super::ppe::SurfaceTraction`]): `(2 eta / rho) (along G + transposed G^T) s_i` on every row, the
-/// difference between the positive form of div(2 eta D) and the difference form, with G the
-/// Bonet & Lok 1999 corrected velocity gradient (module documentation, "Free-surface traction"). Measured on the extensional mode of a free Newtonian sheet (kH = pi/10, exact
-/// decay rate 3.87 nu k^2, test `free_sheet_resists_extension_with_the_surface_traction`), at
-/// dt = 5e-5 / 2e-4 / 1e-3 s: Morris' Laplacian alone 1.84 / 1.74 / 1.47 nu k^2; G^T s only
-/// (along = 0) 2.79 / 2.54 / 1.92; both 3.02 / 2.68 / 1.97 (kept).
+/// ([`super::ppe::SurfaceTraction`]): `(2 eta / rho) (along G + transposed G^T) s_i` on every row,
+/// the difference between the positive form of div(2 eta D) and the difference form, with G the
+/// Bonet & Lok 1999 corrected velocity gradient (module documentation, "Free-surface traction").
+/// Measured on the extensional mode of a free Newtonian sheet (kH = pi/10, exact decay rate 3.87 nu
+/// k^2, test `free_sheet_resists_extension_with_the_surface_traction`), at dt = 5e-5 / 2e-4 / 1e-3
+/// s: Morris' Laplacian alone 1.84 / 1.74 / 1.47 nu k^2; G^T s only (along = 0) 2.79 / 2.54 / 1.92;
+/// both 3.02 / 2.68 / 1.97 (kept).
 pub(super) const SURFACE_TRACTION_ALONG: f64 = 1.0;
 pub(super) const SURFACE_TRACTION_TRANSPOSED: f64 = 1.0;
 

@@ -33,8 +33,9 @@
 //! ([`pressure`]); the frame-independent shifting and the plate contact ([`advection`]). What
 //! concerns every step:
 //! * **Momentum-conserving pair forms.** The divergence of Phi is the positive form (the paper's
-//!   choice with a free surface; the closed channel takes the negative one, below), the Laplacian is Morris' with the uncorrected gradient (King's
-//!   code; symmetric coefficients), and the projection uses the positive form
+//!   choice with a free surface; the closed channel takes the negative one, below), the
+//!   Laplacian is Morris' with the uncorrected gradient (King's code; symmetric coefficients),
+//!   and the projection uses the positive form
 //!   `grad p_i = sum_j (p_i + p_j) grad W_ij V_j` (Cummins & Rudman 1999, Shao & Lo 2003) instead
 //!   of the corrected difference form: every fluid-fluid pair then exchanges equal and opposite
 //!   momentum, so the force of the wall is exactly what the mirrors exert and the momentum balance
@@ -44,27 +45,26 @@
 //! * Kernel: the quintic spline, h = 1.3 dx (`smoothing_ratio` is ignored). No equation of state,
 //!   sound speed, artificial viscosity or artificial stress: those parameters are ignored.
 //!   `rho` of the particles stays rho0.
-//! * **The closed periodic channel** (no free surface) differs in three places, each
-//!   measured on King & Lind's unit channel at 30 across: the body force is in the predictor
-//!   (with the corrector's g the implicit viscous step acts on u - g dt, and the Newtonian flow
-//!   settled g dt = 0.067 U fast everywhere); the mirrors continue the wall curvature of the
-//!   velocity (fitted for the velocity gradient, from the wall's momentum balance for the viscous
-//!   term, [`viscous`]) and the fitted slope of the shear stress ([`wall_profile`]; Newtonian
-//!   centre line 0.9994 U, flow rate 0.66663 U H, against 1.0016 U and 0.6688 U H without); and
-//!   div Phi is the negative form of (20) with the Bonet & Lok correction,
-//!   `sum_j (Phi_j - Phi_i) L_i grad W_ij V_j`, which is what King & Lind use "for closed domains"
-//!   (their section III, after (20): "more accurate, and provides increased stability when large
-//!   stress gradients are present"; their (24) prints the positive form, the one of their
-//!   free-surface runs). Its fluid pairs do not cancel, so the net stress force on the fluid is
-//!   booked as the walls' (a periodic channel has no other boundary). Measured (Oldroyd-B,
-//!   Re = 1, beta = 0.1, Lagrangian, t = 0..3): with the positive form the wall rows under the
-//!   polymer's tension (tr A = 120 at Wi = 2) lost their lattice from t = 1.9, min det A fell
-//!   to 0.87 (Oldroyd-B keeps det A >= 1 in shear) and the centre line left Waters & King by
-//!   0.49 U (Wi = 2, 30 across; 0.55 U at 15 across, Wi = 5 likewise); with the negative form
-//!   the largest deviation is 1.8 % (Wi = 2), 1.5 % (Wi = 1), det A >= 1 throughout, at the
-//!   full step. The Lagrangian frame took a third of (28)'s step before, as a cure for that
-//!   disorder; with the negative form the third changed nothing measurable (Wi = 2: 1.83 %
-//!   against 1.77 %; Wi = 1: 1.48 % against 1.45 %) and is gone.
+//! * **The closed periodic channel** (no free surface) differs in three places, each measured on
+//!   King & Lind's unit channel at 30 across: the body force is in the predictor (with the
+//!   corrector's g the implicit viscous step acts on u - g dt, and the Newtonian flow settled g dt
+//!   = 0.067 U fast everywhere); the mirrors continue the wall curvature of the velocity (fitted
+//!   for the velocity gradient, from the wall's momentum balance for the viscous term, [`viscous`])
+//!   and the fitted slope of the shear stress ([`crate::boundary::wall_profile`]; Newtonian centre
+//!   line 0.9994 U, flow rate 0.66663 U H, against 1.0016 U and 0.6688 U H without); and div Phi is
+//!   the negative form of (20) with the Bonet & Lok correction, `sum_j (Phi_j - Phi_i) L_i grad
+//!   W_ij V_j`, which is what King & Lind use "for closed domains" (their section III, after (20):
+//!   "more accurate, and provides increased stability when large stress gradients are present";
+//!   their (24) prints the positive form, the one of their free-surface runs). Its fluid pairs do
+//!   not cancel, so the net stress force on the fluid is booked as the walls' (a periodic channel
+//!   has no other boundary). Measured (Oldroyd-B, Re = 1, beta = 0.1, Lagrangian, t = 0..3): with
+//!   the positive form the wall rows under the polymer's tension (tr A = 120 at Wi = 2) lost their
+//!   lattice from t = 1.9, min det A fell to 0.87 (Oldroyd-B keeps det A >= 1 in shear) and the
+//!   centre line left Waters & King by 0.49 U (Wi = 2, 30 across; 0.55 U at 15 across, Wi = 5
+//!   likewise); with the negative form the largest deviation is 1.8 % (Wi = 2), 1.5 % (Wi = 1), det
+//!   A >= 1 throughout, at the full step. The Lagrangian frame took a third of (28)'s step before,
+//!   as a cure for that disorder; with the negative form the third changed nothing measurable (Wi =
+//!   2: 1.83 % against 1.77 %; Wi = 1: 1.48 % against 1.45 %) and is gone.
 //! * A pressure or viscous solve that does not converge stops the run with the solver's cause.
 //! * **Inlet** (the jet's nozzle, [`crate::state::Inflow::holds`]): a buffer of particles held at
 //!   the inflow velocity, in the spirit of the moving ghost particles King & Lind cite for their

@@ -107,7 +107,8 @@ impl<R: Rheology> Isph<R> {
     }
 }
 
-/// What one fused pass over the neighbour lists gives besides the pair cache (module documentation).
+/// What one fused pass over the neighbour lists gives besides the pair cache (module
+/// documentation).
 struct NeighbourSums {
     /// Bonet & Lok correction matrices L_i (King & Lind eq. (22)).
     l: Vec<Mat2>,
@@ -119,13 +120,13 @@ struct NeighbourSums {
     grad_c_q: Vec<Vec2>,
 }
 
-/// The pair cache `pairs` (gradients and Morris coefficients, full layout), the moment matrices, the sums of the
-/// free-surface detection and the shifting's concentration gradient of every fluid particle, in
-/// one pass over its neighbour list that evaluates the kernel once per pair. Before, five
-/// passes (`pair_data`, `correction::correction_matrices`, `surface::detect`,
-/// `shifting::concentration_gradient`) each evaluated the quintic's three pieces again; every
-/// sum keeps its own order and expression (the operators' per-pair helpers), so the results
-/// are bitwise those of the separate passes. `shift_dr` = Some(dr) computes the shifting sums.
+/// The pair cache `pairs` (gradients and Morris coefficients, full layout), the moment
+/// matrices, the sums of the free-surface detection and the shifting's concentration gradient
+/// of every fluid particle, in one pass over its neighbour list that evaluates the kernel once
+/// per pair instead of once per sum. Every sum keeps the order and expression of its operator
+/// (`correction::moment_matrices`, `surface::detect`, `shifting::concentration_gradient`, by
+/// their per-pair helpers), so the results are bitwise those of the separate operators.
+/// `shift_dr` = Some(dr) computes the shifting sums.
 #[allow(clippy::too_many_arguments)]
 fn neighbour_sums(
     pairs: &mut PairCache,

@@ -2,7 +2,7 @@
 //! `lap p = (rho / dt) div u*` (Morris' Laplacian (21), the divergence of the corrected gradient
 //! (20) of u*), with a density-invariant source, the free-surface rows of
 //! [`super::free_surface`], the virtual particles Neumann with the hydrostatic offset
-//! ([`Isph::pressure_offsets`]) and the inlet's held particles Neumann where free fluid sees them;
+//! (`Isph::pressure_offsets`) and the inlet's held particles Neumann where free fluid sees them;
 //! solved by BiCGStab + ILU(0) warm started from p^n ([`super::ppe`]).
 //!
 //! **Density-invariant PPE source** on the particles with a full kernel support (neither on
@@ -20,15 +20,15 @@
 //! **Volume at W/dr = 40** (target 0.5 %; docs/isph.md, "Volume": largest |volume_error|
 //! of the Newtonian Re = 4 drop over t* <= 8 from 0.63 % to 0.46 %, 1.79 % to 0.86 % at
 //! W/dr = 20, 0.44 % to 0.22 % at 80), four parts measured together and apart:
-//! - *Surface rows keep their continuity equation.* A Dirichlet row has no div u and no
-//!   density feedback, so the contact line's pile-up of surface particles (about 9 particles
-//!   0.48 dx apart on the rim's face at t* = 8) never returned to the bulk. Row i instead
-//!   takes the part of Morris' Laplacian its missing neighbours would give if p fell
-//!   linearly to 0 at `depth` outside it (a Robin row, [`super::ppe::assemble_poisson_surface`], built in [`super::free_surface`]).
-//! - *Density-invariant source on those rows* ([`SURFACE_ROW_INVARIANCE`]) against the share
+//! - *Surface rows keep their continuity equation.* A Dirichlet row has no div u and no density
+//!   feedback, so the contact line's pile-up of surface particles (about 9 particles 0.48 dx apart
+//!   on the rim's face at t* = 8) never returned to the bulk. Row i instead takes the part of
+//!   Morris' Laplacian its missing neighbours would give if p fell linearly to 0 at `depth` outside
+//!   it (a Robin row, [`super::ppe::assemble_poisson_surface`], built in [`super::free_surface`]).
+//! - *Density-invariant source on those rows* (`SURFACE_ROW_INVARIANCE`) against the share
 //!   of the last row of a straight lattice edge ([`surface::HalfLattice`]): with it the late
 //!   loss (-0.56 % at t* = 8) stays within -0.33 %.
-//! - *Near-surface source* ([`NEAR_SURFACE_INVARIANCE`]) against the share a particle keeps
+//! - *Near-surface source* (`NEAR_SURFACE_INVARIANCE`) against the share a particle keeps
 //!   at its distance below the surface row ([`surface::row_distance`]): the bulk and the NS
 //!   band had stayed 0.6-1 % expanded after impact.
 //! - *Frame-independent shifting.* King & Lind's coefficient (41) follows the particle's

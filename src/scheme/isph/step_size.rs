@@ -7,12 +7,12 @@
 //! `c^2 = (G + s_max) / rho`, s_max the largest principal polymer stress (a string under
 //! tension G A carries transverse waves at sqrt(G l_max(A) / rho)); (28) and `h / sqrt(G / rho)`
 //! do not see the stretch, and as a start-up flow slows (28)'s step grows while tr A still
-//! rises. [`STRETCHED_WAVE_LIMIT`] gives the measurements. In free-surface scenes also the
+//! rises. `STRETCHED_WAVE_LIMIT` gives the measurements. In free-surface scenes also the
 //! positive-form pressure wave `0.5 h sqrt(rho / p_max)` (not scaled by the factor): the
 //! projection's `(p_i + p_j)` gradient is an explicit interparticle spring of stiffness
 //! proportional to p, and at the gravity limit of a drop resting on the plate its Courant
 //! number grows as sqrt(H / h) (the Newtonian Re = 4 drop blew up at W/dr = 120, t* = 1.5,
-//! without it). [`Isph::pressure_wave_dt`] derives it; [`PRESSURE_WAVE_LIMIT`] gives the
+//! without it). `Isph::pressure_wave_dt` derives it; `PRESSURE_WAVE_LIMIT` gives the
 //! measurements.
 //!
 //! **EVSS's explicit part limits the implicit step**: `rho h^2 / (alpha_V eta0)`, the explicit
@@ -23,7 +23,7 @@
 //!
 //! **A blow-up stops the run.** With no density to watch, a diverging incompressible run would
 //! crawl on: (28) follows the speed down and never reaches zero. A stable step below
-//! [`DT_COLLAPSE`] of the scene's time scale is a breakdown that names the fastest particle's
+//! `DT_COLLAPSE` of the scene's time scale is a breakdown that names the fastest particle's
 //! speed.
 
 use super::Isph;

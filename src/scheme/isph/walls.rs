@@ -3,9 +3,9 @@
 //! particle ([`Boundary::parents`]), so their values are affine in their parents' and enter the
 //! linear systems as ghosts: velocity no slip, `2 u_wall - u_parent`
 //! ([`Boundary::wall_velocities`]), pressure Neumann plus the hydrostatic offset
-//! `rho g . (r_m - r_i)` ([`Isph::pressure_offsets`]), polymer stress as the wall model fills it
+//! `rho g . (r_m - r_i)` (`Isph::pressure_offsets`), polymer stress as the wall model fills it
 //! ([`Boundary::fill_stresses`]; mirrors: the parent's). The scheme never asks for the model's
-//! type: King & Lind's mirror particles ([`MirrorWall`]) are what [`mirror_walls`] builds, and
+//! type: King & Lind's mirror particles ([`MirrorWall`]) are what `mirror_walls` builds, and
 //! any model that names parents plugs in.
 //!
 //! In the closed periodic channel the continuation is second order: the virtual velocities
