@@ -335,6 +335,7 @@ struct Books {
 impl<R: Rheology> Scheme for Isph<R> {
     fn step(&mut self, st: &mut State, max_dt: f64) -> Result<f64, String> {
         let t_start = Instant::now();
+        // The step, eq. (28) with this scheme's further limits.
         let size = self.step_size(st, max_dt)?;
         let dt = size.dt;
         let n = st.fluid.len();
@@ -342,7 +343,7 @@ impl<R: Rheology> Scheme for Isph<R> {
         let lagrangian = self.frame == IsphFrame::Lagrangian;
         let held = Held::of(st);
 
-        // Step 1, eq. (23).
+        // Step 1, eq. (23): r* = r^n + dt u^n.
         let xs = self.predict_positions(&st.fluid, dt, lagrangian);
 
         // Step 2: the walls' virtual particles, the lists, the pair cache, the correction (22)
@@ -365,8 +366,8 @@ impl<R: Rheology> Scheme for Isph<R> {
         };
         let u_ps = self.shifting_velocity(&st.fluid, &ctx, nb.grad_c, nb.grad_c_q);
 
-        // Step 3: the conformation tensor to n + 1/2 (section III.B) with the corrected
-        // velocity gradient (20) of u^n, and the stress Phi it gives.
+        // Step 3: the conformation tensor to n + 1/2 (section III.B, eqs. (29)-(33)) with the
+        // corrected velocity gradient (20), (22) of u^n, and the stress Phi (6) it gives.
         let u_n = ctx.extend(&st.fluid.v);
         let kappa = corrected_velocity_gradients(n, &u_n, vol, &ctx.nl, &self.pairs, &ctx.l);
         let conf = self.conformation(&st.fluid.conf, &kappa, &u_ps, &ctx)?;
@@ -382,13 +383,13 @@ impl<R: Rheology> Scheme for Isph<R> {
         };
         let mut books = Books::default();
 
-        // Step 4: the predictor (24), the solvent viscosity explicit or implicit.
+        // Step 4: the predictor u* (24), the solvent viscosity (21) explicit or implicit.
         let u_star = self.predictor(st, &ctx, &f, &mut books)?;
 
-        // Step 5: the PPE (25) with the free-surface conditions.
+        // Step 5: the PPE (25) with the free-surface condition (35a).
         let pressure = self.pressure(st, &ctx, &f, &u_star, &mut books)?;
 
-        // Step 6: projection (26).
+        // Step 6: the projection (26), u^{n+1} = u* - dt grad p / rho + dt g.
         let u_new = self.projection(&st.fluid, &ctx, &u_star, &pressure, &mut books);
 
         // Step 7: advection (27), then the plate contact and the books.
