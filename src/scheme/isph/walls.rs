@@ -207,3 +207,82 @@ impl<R: Rheology> Isph<R> {
             .collect()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::boundary::ghost::{GhostWall, WallModel};
+    use crate::kernel::{CubicSpline, QuinticSpline};
+
+    /// A lattice of fluid above a plate inclined at 30 degrees that moves away from the fluid.
+    fn layer(dx: f64) -> (Vec<Plate>, Vec<Vec2>) {
+        let mut plate = Plate::new(30.0, dx);
+        plate.velocity = 0.2;
+        let xs = (0..20 * 8)
+            .map(|q| plate.point(((q % 20) as f64 - 9.5) * dx, ((q / 20) as f64 + 0.5) * dx))
+            .collect();
+        (vec![plate], xs)
+    }
+
+    /// Through the trait alone, the mirror wall gives every virtual particle a parent and the
+    /// plate's velocity, and the extended velocity is no slip: a particle and its mirror
+    /// average to the wall's velocity (plus the correction given).
+    #[test]
+    fn mirror_walls_extend_a_velocity_as_no_slip() {
+        let dx = 0.01;
+        let k = QuinticSpline::new(1.3 * dx);
+        let (mut plates, xs) = layer(dx);
+        let mut walls = mirror_walls(&plates, k.radius());
+        let mut all_x = xs.clone();
+        let virt = Virtual::place(
+            &mut walls,
+            &mut plates,
+            &xs,
+            k.radius(),
+            &Domain::OPEN,
+            &mut all_x,
+        )
+        .unwrap();
+        assert!(virt.len() > 0 && all_x.len() == xs.len() + virt.len());
+        assert_eq!(virt.ranges, vec![0..virt.len()]);
+        let uw = plates[0].wall_velocity();
+        assert!(virt.u_wall.iter().all(|u| *u == uw));
+        let u: Vec<Vec2> = xs.iter().map(|x| Vec2::new(x.y, -2.0 * x.x)).collect();
+        let curv: Vec<Vec2> = (0..virt.len()).map(|m| Vec2::new(m as f64, 1.0)).collect();
+        let ext = virt.extend_velocity(&u, &curv);
+        assert_eq!(&ext[..xs.len()], &u[..]);
+        for (m, &i) in virt.parent.iter().enumerate() {
+            let i = i as usize;
+            // The mirror is the parent reflected across the plate.
+            let (xm, xi) = (all_x[xs.len() + m], xs[i]);
+            assert!((plates[0].d(&xm) + plates[0].d(&xi)).abs() < 1e-15);
+            let mean = 0.5 * (ext[xs.len() + m] - curv[m] + u[i]);
+            assert!((mean - uw).norm() < 1e-12);
+        }
+    }
+
+    /// A wall model whose virtual particles interpolate several fluid particles (Fang's) has
+    /// no parents to link in the linear systems: ISPH refuses it instead of misreading it.
+    #[test]
+    fn a_wall_model_without_parents_is_refused() {
+        let dx = 0.01;
+        let k = CubicSpline::new(1.5 * dx);
+        let (mut plates, xs) = layer(dx);
+        let mut walls: Vec<Box<dyn Boundary>> = vec![Box::new(GhostWall::new(
+            k,
+            WallModel::Fang,
+            Domain::OPEN,
+            dx,
+        ))];
+        let mut all_x = xs.clone();
+        let placed = Virtual::place(
+            &mut walls,
+            &mut plates,
+            &xs,
+            k.radius(),
+            &Domain::OPEN,
+            &mut all_x,
+        );
+        assert!(placed.unwrap_err().contains("mirror particles"));
+    }
+}
