@@ -115,3 +115,70 @@ pub fn fluid_void_fraction(fl: &Fluid, plate: Option<&Plate>, dx: f64) -> f64 {
     };
     crate::health::void_fraction(&pts, 2.0 * dx, plate.is_some())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::EquationOfState;
+    use crate::{Mat2, Vec2};
+
+    /// A 10 x 10 lattice of spacing `dx` above a level plate, at rest and at rho0.
+    fn lattice(dx: f64) -> (Fluid, Vec<Plate>) {
+        let mut fl = Fluid {
+            mass: 1000.0 * dx * dx,
+            ..Default::default()
+        };
+        for q in 0..100 {
+            fl.x.push(Vec2::new(
+                (q % 10) as f64 * dx,
+                (q / 10) as f64 * dx + 0.5 * dx,
+            ));
+            fl.v.push(Vec2::zeros());
+            fl.rho.push(1000.0);
+            fl.conf.push(Mat2::identity());
+        }
+        (fl, vec![Plate::new(0.0, dx)])
+    }
+
+    /// Every scheme's checks, in their order: a healthy state passes; a non-finite value names
+    /// its particle before anything else; a particle half a spacing below the plate line is
+    /// through it, one just above that is not; the domain; the density only when asked for.
+    #[test]
+    fn particle_checks_name_the_first_cause() {
+        let dx = 0.01;
+        let eos = Eos {
+            kind: EquationOfState::Linear,
+            rho0: 1000.0,
+            c: 10.0,
+        };
+        let check = |fl: &Fluid, walls: &[Plate], eos: Option<&Eos>| {
+            check_particles(fl, walls, dx, 1.0, true, eos)
+        };
+        let (fl, walls) = lattice(dx);
+        assert_eq!(check(&fl, &walls, Some(&eos)), Ok(()));
+
+        let mut bad = fl.clone();
+        bad.x[7].y = -0.6 * dx;
+        bad.conf[42][(0, 1)] = f64::NAN;
+        let e = check(&bad, &walls, None).unwrap_err();
+        assert!(e.contains("non-finite") && e.contains("particle 42"), "{e}");
+
+        let mut through = fl.clone();
+        through.x[7].y = -0.49 * dx;
+        assert_eq!(check(&through, &walls, None), Ok(()));
+        through.x[7].y = -0.51 * dx;
+        let e = check(&through, &walls, None).unwrap_err();
+        assert!(e.contains("particle 7 went through the plate"), "{e}");
+
+        let mut far = fl.clone();
+        far.x[3].x = 2.0;
+        let e = check(&far, &walls, None).unwrap_err();
+        assert!(e.contains("particle 3 escaped the domain"), "{e}");
+
+        let mut dense = fl.clone();
+        dense.rho[5] = 1400.0;
+        assert_eq!(check(&dense, &walls, None), Ok(()));
+        let e = check(&dense, &walls, Some(&eos)).unwrap_err();
+        assert!(e.contains("density of particle 5"), "{e}");
+    }
+}
