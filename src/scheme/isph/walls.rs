@@ -224,6 +224,19 @@ mod tests {
         (vec![plate], xs)
     }
 
+    /// `Virtual::place` of `walls` for the fluid `xs`, with the positions of fluid then virtual
+    /// particles.
+    fn place(
+        walls: &mut [Box<dyn Boundary>],
+        plates: &mut [Plate],
+        xs: &[Vec2],
+        radius: f64,
+    ) -> (Result<Virtual, String>, Vec<Vec2>) {
+        let mut all_x = xs.to_vec();
+        let virt = Virtual::place(walls, plates, xs, radius, &Domain::OPEN, &mut all_x);
+        (virt, all_x)
+    }
+
     /// Through the trait alone, the mirror wall gives every virtual particle a parent and the
     /// plate's velocity, and the extended velocity is no slip: a particle and its mirror
     /// average to the wall's velocity (plus the correction given).
@@ -233,16 +246,8 @@ mod tests {
         let k = QuinticSpline::new(1.3 * dx);
         let (mut plates, xs) = layer(dx);
         let mut walls = mirror_walls(&plates, k.radius());
-        let mut all_x = xs.clone();
-        let virt = Virtual::place(
-            &mut walls,
-            &mut plates,
-            &xs,
-            k.radius(),
-            &Domain::OPEN,
-            &mut all_x,
-        )
-        .unwrap();
+        let (virt, all_x) = place(&mut walls, &mut plates, &xs, k.radius());
+        let virt = virt.unwrap();
         assert!(virt.len() > 0 && all_x.len() == xs.len() + virt.len());
         assert_eq!(virt.ranges, vec![0..virt.len()]);
         let uw = plates[0].wall_velocity();
@@ -274,15 +279,7 @@ mod tests {
             Domain::OPEN,
             dx,
         ))];
-        let mut all_x = xs.clone();
-        let placed = Virtual::place(
-            &mut walls,
-            &mut plates,
-            &xs,
-            k.radius(),
-            &Domain::OPEN,
-            &mut all_x,
-        );
+        let (placed, _) = place(&mut walls, &mut plates, &xs, k.radius());
         assert!(placed.unwrap_err().contains("mirror particles"));
     }
 }
