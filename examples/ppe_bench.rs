@@ -15,7 +15,7 @@ use std::io::Write;
 use std::time::Instant;
 use viscosph::kernel::{Kernel, QuinticSpline};
 use viscosph::neighbors::Domain;
-use viscosph::scheme::ppe::*;
+use viscosph::scheme::isph::ppe::*;
 use viscosph::Vec2;
 use viscosph_reference::fixtures::{channel, disc, splitmix, ParticleSet};
 

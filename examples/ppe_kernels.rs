@@ -19,7 +19,7 @@ use std::hint::black_box;
 use std::time::Instant;
 use viscosph::kernel::{Kernel, QuinticSpline};
 use viscosph::neighbors::Domain;
-use viscosph::scheme::ppe::*;
+use viscosph::scheme::isph::ppe::*;
 use viscosph_reference::fixtures::disc;
 
 /// The ILU(0) factorisation as it was before issue 16 (a branch per update).

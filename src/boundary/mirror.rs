@@ -12,10 +12,11 @@
 //!   field;
 //! * polymer stress: see [`StressMirror`].
 //!
-//! In the ISPH linear systems (`scheme::ppe`) the mirrors are ghosts linked to their parents:
-//! pressure sign +1 with offsets [`pressure_offsets`], velocity sign -1 with offset 2 u_wall.
-//! Particles on the wrong side (d <= 0) get no mirror; putting them back (King's code reflects
-//! them across the wall with [`MirrorPlate::reflect`]) is the scheme's job.
+//! In the ISPH linear systems (`scheme::isph::ppe`) the mirrors are ghosts linked to their
+//! parents ([`Boundary::parents`]): pressure sign +1 with offsets [`pressure_offsets`], velocity
+//! sign -1 with offset 2 u_wall ([`Boundary::wall_velocities`]). Particles on the wrong side
+//! (d <= 0) get no mirror; putting them back (King's code reflects them across the wall with
+//! [`MirrorPlate::reflect`]) is the scheme's job.
 
 use super::plate::Plate;
 use super::Boundary;
@@ -141,8 +142,8 @@ impl MirrorPlate {
 /// The mirror-particle wall model of one plate as a [`Boundary`]: [`Boundary::place`] builds a
 /// mirror for every fluid particle within `reach` of the plate (in ascending particle order),
 /// the fill steps give them the no-slip velocity and the [`StressMirror::NoSlip`] stress of
-/// their parents. The incompressible scheme reads the parents ([`MirrorWall::mirrors`]) to
-/// link mirror pressures and velocities to their parents in its linear systems.
+/// their parents. The incompressible scheme reads the parents ([`Boundary::parents`]) to link
+/// mirror pressures and velocities to their parents in its linear systems.
 #[derive(Debug, Clone)]
 pub struct MirrorWall {
     reach: f64,
@@ -156,11 +157,6 @@ impl MirrorWall {
             reach,
             mirrors: Mirrors::default(),
         }
-    }
-
-    /// The mirrors built at the last [`Boundary::place`].
-    pub fn mirrors(&self) -> &Mirrors {
-        &self.mirrors
     }
 
     /// The mirror plate of `wall`.
@@ -207,6 +203,10 @@ impl Boundary for MirrorWall {
 
     fn positions(&self, _wall: &Plate) -> Vec<Vec2> {
         self.mirrors.x.clone()
+    }
+
+    fn parents(&self) -> &[u32] {
+        &self.mirrors.parent
     }
 }
 
@@ -362,6 +362,47 @@ mod tests {
             .all(|(&i, v)| (v + u[i as usize]).norm() < 1e-15));
     }
 
+    /// Through the [`Boundary`] trait, as the incompressible scheme sees it: the parents are
+    /// the particles within reach in ascending order, every mirror takes the moving plate's
+    /// velocity for its no-slip continuation, and the filled velocities and stresses are that
+    /// continuation and the parents' stresses.
+    #[test]
+    fn mirror_wall_through_the_boundary_trait() {
+        let mut plate = Plate::new(30.0, 0.01);
+        plate.velocity = 0.3;
+        let x = points();
+        let mut wall: Box<dyn Boundary> = Box::new(MirrorWall::new(0.05));
+        let grid = CellGrid::build(&x, 0.05, &crate::neighbors::Domain::OPEN);
+        let mut out = vec![Vec2::new(9.0, 9.0)];
+        wall.place(&mut plate, &x, &grid, 0.05, &mut out);
+        let m = build(&MirrorPlate::of_plate(&plate, 0.05), &x);
+        assert!(!m.parent.is_empty());
+        assert_eq!(wall.parents(), &m.parent[..]);
+        assert_eq!(&out[1..], &m.x[..]);
+        assert_eq!(wall.positions(&plate), m.x);
+        let mut uw = vec![Vec2::zeros()];
+        wall.wall_velocities(&plate, &mut uw);
+        assert_eq!(uw.len(), 1 + m.parent.len());
+        assert!(uw[1..].iter().all(|u| *u == -plate.n * 0.3));
+        let fluid = Fluid {
+            mass: 1.0,
+            x: x.clone(),
+            v: x.iter().map(|p| Vec2::new(p.y, 2.0 * p.x)).collect(),
+            rho: vec![1.0; x.len()],
+            ..Default::default()
+        };
+        let mut v = vec![Vec2::zeros(); m.parent.len()];
+        wall.fill_velocities(&plate, &fluid, &mut v);
+        let tau: Vec<Mat2> = x.iter().map(|p| Mat2::new(p.x, p.y, p.y, 1.0)).collect();
+        let mut s = vec![Mat2::zeros(); m.parent.len()];
+        wall.fill_stresses(&plate, &fluid, &[], &tau, &mut s);
+        for (k, &i) in m.parent.iter().enumerate() {
+            let i = i as usize;
+            assert_eq!(v[k], 2.0 * uw[1 + k] - fluid.v[i]);
+            assert_eq!(s[k], tau[i]);
+        }
+    }
+
     /// A uniform polymer shear stress (tau_tn = 1, first normal difference 4) on a lattice above
     /// a plate at 30 degrees: the positive-form divergence (King & Lind 2021 eq. (20)),
     /// `sum_j (tau_i + tau_j) grad W_ij V_j`, over fluid and mirror neighbours, must vanish at
@@ -413,7 +454,7 @@ mod tests {
     /// hydrostatic field everywhere, the rows next to the plate included.
     #[test]
     fn ppe_with_mirrors_holds_the_hydrostatic_pressure() {
-        use crate::scheme::ppe::{
+        use crate::scheme::isph::ppe::{
             assemble_poisson, morris_coefficients, solve, GhostLink, SolverOptions,
         };
         let dr = 0.01;

@@ -1,13 +1,22 @@
 //! Rigid walls: the plate geometry ([`plate`]) and the wall models that give the fluid something
 //! to push against ([`ghost`]: Fang 2006's boundary + image particles and Ren 2015's wall + ghost
-//! particles).
+//! particles; [`mirror`]: King & Lind 2021's mirror particles).
 //!
 //! A wall model is a [`Boundary`]: for the current fluid it places virtual particles near the
 //! wall (appended after the fluid in the scheme's work arrays), then fills their velocities and
 //! stresses from the fluid before each pass that reads them. The force the virtual particles
 //! exert on the fluid is the wall's reaction; the scheme sums it in its momentum pass. The wall's
 //! geometry and motion (a [`plate::Plate`]) live in the simulation state; a boundary holds only
-//! what it rebuilds from the state (interpolation lists), so nothing is stored twice.
+//! what it rebuilds from the state (interpolation lists, mirror parents), so nothing is stored
+//! twice.
+//!
+//! The incompressible scheme needs more than filled values: its pressure Poisson equation and
+//! implicit viscous step take the virtual particles' values as unknowns of linear systems, so a
+//! virtual value has to be an affine function of one fluid particle's. A model whose virtual
+//! particles each continue one fluid particle across the wall says which
+//! ([`Boundary::parents`]) and at what wall velocity ([`Boundary::wall_velocities`]); the
+//! scheme then links a virtual pressure to its parent's (Neumann, plus the hydrostatic offset)
+//! and a virtual velocity as no slip, `2 u_wall - u_parent`, without knowing the model's type.
 
 pub mod ghost;
 pub mod mirror;
@@ -49,4 +58,27 @@ pub trait Boundary: Send + Sync {
 
     /// Positions of the virtual particles placed at the last [`Boundary::place`], for output.
     fn positions(&self, wall: &Plate) -> Vec<Vec2>;
+
+    /// The fluid particle each virtual particle of the last [`Boundary::place`] continues across
+    /// the wall, in the order of `place`, for a model whose virtual particles each follow one
+    /// fluid particle (King & Lind 2021's mirror particles, section III.C). The incompressible
+    /// scheme links a virtual particle's pressure and velocity to its parent's in its linear
+    /// systems and gives it its parent's conformation. Empty (the default) for a model whose
+    /// virtual particles interpolate several fluid particles (Fang's and Ren's walls): the
+    /// incompressible scheme cannot take those.
+    fn parents(&self) -> &[u32] {
+        &[]
+    }
+
+    /// Append to `out`, per virtual particle of [`Boundary::parents`], the velocity of the wall's
+    /// material at the point the particle is continued across: the no-slip continuation is
+    /// `u_m = 2 u_wall - u_parent`, so a particle and its virtual twin average to the wall's
+    /// velocity there. The default is the plate's rigid motion (the same at every point); a
+    /// wall that rotates or deforms overrides it.
+    fn wall_velocities(&self, wall: &Plate, out: &mut Vec<Vec2>) {
+        out.extend(std::iter::repeat_n(
+            wall.wall_velocity(),
+            self.parents().len(),
+        ));
+    }
 }

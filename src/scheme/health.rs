@@ -1,67 +1,28 @@
-//! Health of a weakly compressible state after a step: what makes a run stop with a message
-//! instead of returning garbage (non-finite values, density far from rho0, particles through a
-//! wall or out of the domain, fracture by the tensile instability).
+//! Health of a state after a step: what makes a run stop with a message instead of returning
+//! garbage. Every scheme checks its particles ([`check_particles`]: non-finite values, particles
+//! through a wall or out of the domain); the weakly compressible ones also the density against
+//! rho0 and fracture by the tensile instability ([`check_health`]). The incompressible scheme has
+//! no density to check and reports its void fraction without acting on it.
 
 use super::params::Params;
 use crate::boundary::plate::Plate;
 use crate::config::ArtificialStressKind;
+use crate::eos::Eos;
 use crate::particles::Fluid;
 use crate::rheology::Rheology;
 use rayon::prelude::*;
 
 /// A particle this far below a plate (in particle spacings) has gone through it.
-const PENETRATION_DEPTH: f64 = 0.5;
+pub const PENETRATION_DEPTH: f64 = 0.5;
 /// Relative density deviation that stops a run.
 const MAX_DENSITY_DEVIATION: f64 = 0.3;
 /// Smallest number of particles per parallel task of this light pass.
 const MIN_TASK_LIGHT: usize = 1024;
 
-/// Health of a state after a step: the void fraction, or the cause of a breakdown.
+/// Health of a weakly compressible state after a step: the void fraction, or the cause of a
+/// breakdown.
 pub fn check_health<R: Rheology>(p: &Params, fl: &Fluid, walls: &[Plate]) -> Result<f64, String> {
-    let bad = (0..fl.len())
-        .into_par_iter()
-        .with_min_len(MIN_TASK_LIGHT)
-        .find_first(|&i| {
-            !(fl.x[i].iter().all(|x| x.is_finite())
-                && fl.v[i].iter().all(|x| x.is_finite())
-                && fl.rho[i].is_finite()
-                && (!R::ELASTIC || fl.conf[i].iter().all(|x| x.is_finite())))
-        });
-    if let Some(i) = bad {
-        return Err(format!(
-            "non-finite value (NaN or Inf) on fluid particle {i}"
-        ));
-    }
-    for i in 0..fl.len() {
-        let dev = fl.rho[i] / p.eos.rho0 - 1.0;
-        if dev.abs() > MAX_DENSITY_DEVIATION {
-            // The density variation is about (v / c)^2: name the sound speed that keeps it near
-            // 1 % for the fastest particle now (10 v), and never less than twice the current one.
-            let vmax = fl.v.iter().fold(0.0f64, |m, v| m.max(v.norm()));
-            let advice = (10.0 * vmax).max(2.0 * p.eos.c);
-            return Err(format!(
-                "density of particle {i} is {:.1} % off the reference density (limit {:.0} %): \
-                 the flow is too fast for the sound speed c = {} m/s (fastest particle {:.3} m/s); \
-                 set sound_speed to at least {:.0} m/s",
-                100.0 * dev,
-                100.0 * MAX_DENSITY_DEVIATION,
-                p.eos.c,
-                vmax,
-                advice.ceil()
-            ));
-        }
-        if fl.x[i].norm() > p.domain_radius {
-            return Err(format!(
-                "particle {i} escaped the domain (|x| = {:.3e} m)",
-                fl.x[i].norm()
-            ));
-        }
-        for pl in walls {
-            if pl.d(&fl.x[i]) < -PENETRATION_DEPTH * p.dx {
-                return Err(format!("particle {i} went through the plate"));
-            }
-        }
-    }
+    check_particles(fl, walls, p.dx, p.domain_radius, R::ELASTIC, Some(&p.eos))?;
     let voids = fluid_void_fraction(fl, walls.first(), p.dx);
     if p.fracture_void_fraction > 0.0 && voids > p.fracture_void_fraction {
         let knob = match p.art_kind {
@@ -78,6 +39,73 @@ pub fn check_health<R: Rheology>(p: &Params, fl: &Fluid, walls: &[Plate]) -> Res
     Ok(voids)
 }
 
+/// The checks every scheme makes on its particles after a step, in this order: finite
+/// positions, velocities, densities and (when `elastic`) conformation tensors on every particle
+/// (the first offender named); then particle by particle the density against `eos`'s rho0 (a
+/// weakly compressible scheme; None: not checked), the domain (`|x| <= domain_radius`) and every
+/// plate (no particle more than [`PENETRATION_DEPTH`] spacings `dx` below it).
+pub fn check_particles(
+    fl: &Fluid,
+    walls: &[Plate],
+    dx: f64,
+    domain_radius: f64,
+    elastic: bool,
+    eos: Option<&Eos>,
+) -> Result<(), String> {
+    let bad = (0..fl.len())
+        .into_par_iter()
+        .with_min_len(MIN_TASK_LIGHT)
+        .find_first(|&i| {
+            !(fl.x[i].iter().all(|x| x.is_finite())
+                && fl.v[i].iter().all(|x| x.is_finite())
+                && fl.rho.get(i).is_none_or(|r| r.is_finite())
+                && (!elastic
+                    || fl
+                        .conf
+                        .get(i)
+                        .is_none_or(|a| a.iter().all(|x| x.is_finite()))))
+        });
+    if let Some(i) = bad {
+        return Err(format!(
+            "non-finite value (NaN or Inf) on fluid particle {i}"
+        ));
+    }
+    for i in 0..fl.len() {
+        if let Some(eos) = eos {
+            let dev = fl.rho[i] / eos.rho0 - 1.0;
+            if dev.abs() > MAX_DENSITY_DEVIATION {
+                // The density variation is about (v / c)^2: name the sound speed that keeps it
+                // near 1 % for the fastest particle now (10 v), and never less than twice the
+                // current one.
+                let vmax = fl.v.iter().fold(0.0f64, |m, v| m.max(v.norm()));
+                let advice = (10.0 * vmax).max(2.0 * eos.c);
+                return Err(format!(
+                    "density of particle {i} is {:.1} % off the reference density (limit {:.0} \
+                     %): the flow is too fast for the sound speed c = {} m/s (fastest particle \
+                     {:.3} m/s); set sound_speed to at least {:.0} m/s",
+                    100.0 * dev,
+                    100.0 * MAX_DENSITY_DEVIATION,
+                    eos.c,
+                    vmax,
+                    advice.ceil()
+                ));
+            }
+        }
+        if fl.x[i].norm() > domain_radius {
+            return Err(format!(
+                "particle {i} escaped the domain (|x| = {:.3e} m)",
+                fl.x[i].norm()
+            ));
+        }
+        for pl in walls {
+            if pl.d(&fl.x[i]) < -PENETRATION_DEPTH * dx {
+                return Err(format!("particle {i} went through the plate"));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Void fraction of the fluid (see [`crate::health`]) on cells of two particle spacings, in the
 /// plate's frame when there is a plate.
 pub fn fluid_void_fraction(fl: &Fluid, plate: Option<&Plate>, dx: f64) -> f64 {
@@ -86,4 +114,71 @@ pub fn fluid_void_fraction(fl: &Fluid, plate: Option<&Plate>, dx: f64) -> f64 {
         None => fl.x.iter().map(|x| (x.x, x.y)).collect(),
     };
     crate::health::void_fraction(&pts, 2.0 * dx, plate.is_some())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::EquationOfState;
+    use crate::{Mat2, Vec2};
+
+    /// A 10 x 10 lattice of spacing `dx` above a level plate, at rest and at rho0.
+    fn lattice(dx: f64) -> (Fluid, Vec<Plate>) {
+        let mut fl = Fluid {
+            mass: 1000.0 * dx * dx,
+            ..Default::default()
+        };
+        for q in 0..100 {
+            fl.x.push(Vec2::new(
+                (q % 10) as f64 * dx,
+                (q / 10) as f64 * dx + 0.5 * dx,
+            ));
+            fl.v.push(Vec2::zeros());
+            fl.rho.push(1000.0);
+            fl.conf.push(Mat2::identity());
+        }
+        (fl, vec![Plate::new(0.0, dx)])
+    }
+
+    /// Every scheme's checks, in their order: a healthy state passes; a non-finite value names
+    /// its particle before anything else; a particle half a spacing below the plate line is
+    /// through it, one just above that is not; the domain; the density only when asked for.
+    #[test]
+    fn particle_checks_name_the_first_cause() {
+        let dx = 0.01;
+        let eos = Eos {
+            kind: EquationOfState::Linear,
+            rho0: 1000.0,
+            c: 10.0,
+        };
+        let check = |fl: &Fluid, walls: &[Plate], eos: Option<&Eos>| {
+            check_particles(fl, walls, dx, 1.0, true, eos)
+        };
+        let (fl, walls) = lattice(dx);
+        assert_eq!(check(&fl, &walls, Some(&eos)), Ok(()));
+
+        let mut bad = fl.clone();
+        bad.x[7].y = -0.6 * dx;
+        bad.conf[42][(0, 1)] = f64::NAN;
+        let e = check(&bad, &walls, None).unwrap_err();
+        assert!(e.contains("non-finite") && e.contains("particle 42"), "{e}");
+
+        let mut through = fl.clone();
+        through.x[7].y = -0.49 * dx;
+        assert_eq!(check(&through, &walls, None), Ok(()));
+        through.x[7].y = -0.51 * dx;
+        let e = check(&through, &walls, None).unwrap_err();
+        assert!(e.contains("particle 7 went through the plate"), "{e}");
+
+        let mut far = fl.clone();
+        far.x[3].x = 2.0;
+        let e = check(&far, &walls, None).unwrap_err();
+        assert!(e.contains("particle 3 escaped the domain"), "{e}");
+
+        let mut dense = fl.clone();
+        dense.rho[5] = 1400.0;
+        assert_eq!(check(&dense, &walls, None), Ok(()));
+        let e = check(&dense, &walls, Some(&eos)).unwrap_err();
+        assert!(e.contains("density of particle 5"), "{e}");
+    }
 }

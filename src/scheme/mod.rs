@@ -2,8 +2,8 @@
 //! steps over the shared operators ([`crate::operators`]) and wall models
 //! ([`crate::boundary`]).
 //!
-//! [`isph`] (King & Lind 2021) is incompressible: a pressure Poisson equation ([`ppe`]) instead
-//! of an equation of state. [`wcsph`] (Fang 2006) and [`pdri`] (Ren 2015) share the weakly compressible rate evaluation
+//! [`isph`] (King & Lind 2021) is incompressible: a pressure Poisson equation ([`isph::ppe`])
+//! instead of an equation of state. [`wcsph`] (Fang 2006) and [`pdri`] (Ren 2015) share the weakly compressible rate evaluation
 //! [`wc`], its constants [`params`] and its health check [`health`]; each keeps its own time
 //! integration. [`build`] is the one place where the scheme, its kernel and the rheology are
 //! resolved into a concrete type.
@@ -12,7 +12,6 @@ pub mod health;
 pub mod isph;
 pub mod params;
 pub mod pdri;
-pub mod ppe;
 pub mod wc;
 pub mod wcsph;
 

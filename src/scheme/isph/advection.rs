@@ -1,0 +1,125 @@
+//! Advection of King & Lind 2021's ISPH: the predicted positions of step 1, eq. (23)
+//! `r* = r^n + dt u^n`; the shifting velocity of step 2, eqs. (40)-(44) (`u_ps = dr_s / dt`,
+//! with the corrections [`shifting`] lists), which is also the ALE velocity of (24) and (31);
+//! and the positions of step 7, eq. (27) `r^{n+1} = r^n + dt/2 (u^n + u^{n+1} + 2 u_ps)`. In the
+//! Eulerian frame the particles stay and `u_ps = -u^n`.
+//!
+//! **Frame-independent shifting.** King & Lind's coefficient (41) follows the particle's speed;
+//! here it follows the speed relative to the fluid's mean velocity, so a drop in free flight at
+//! 1 m/s is not reshuffled ([`super::pressure`], "Volume at W/dr = 40"). The inlet's held
+//! particles move with the inflow, not shifted.
+//!
+//! **Plate contact.** A particle that crosses a plate is reflected back with its normal velocity
+//! removed (King's code reflects it too); the momentum removed counts in the wall force.
+
+use super::{Context, Isph};
+use crate::boundary::ghost::keep_above_plate;
+use crate::kernel::Kernel;
+use crate::operators::shifting;
+use crate::particles::Fluid;
+use crate::rheology::Rheology;
+use crate::state::State;
+use crate::{Mat2, Vec2};
+use rayon::prelude::*;
+
+impl<R: Rheology> Isph<R> {
+    /// Step 1, eq. (23): the positions r* (the particles' own in the Eulerian frame).
+    pub(super) fn predict_positions(&self, fl: &Fluid, dt: f64, lagrangian: bool) -> Vec<Vec2> {
+        let dom = self.p.domain;
+        if lagrangian {
+            fl.x.par_iter()
+                .zip(fl.v.par_iter())
+                .map(|(x, v)| dom.wrap(x + v * dt))
+                .collect()
+        } else {
+            fl.x.clone()
+        }
+    }
+
+    /// The shifting velocity u_ps of eqs. (40)-(44) from the concentration gradients of
+    /// step 2 without (`grad_c`) and with (`grad_c_q`) the repulsion Q; `-u^n` in the Eulerian
+    /// frame; zero on the inlet's held particles.
+    pub(super) fn shifting_velocity(
+        &self,
+        fl: &Fluid,
+        ctx: &Context,
+        grad_c: Vec<Vec2>,
+        grad_c_q: Vec<Vec2>,
+    ) -> Vec<Vec2> {
+        let (n, dt, h) = (ctx.n, ctx.dt, self.kernel.h());
+        let u_ps: Vec<Vec2> = if ctx.lagrangian {
+            // The repulsion Q acts on the interior particles of a free-surface flow (eq. (42)).
+            let (grad_c, d): (Vec<Vec2>, Vec<f64>) = match &ctx.surf {
+                Some(s) => (
+                    s.is_surface
+                        .iter()
+                        .enumerate()
+                        .map(|(i, &fs)| if fs { grad_c[i] } else { grad_c_q[i] })
+                        .collect(),
+                    shifting::coefficients_free_surface(&relative_to_mean(&fl.v), h, dt),
+                ),
+                None => (grad_c, vec![shifting::coefficient_internal(h); n]),
+            };
+            let s = ctx
+                .surf
+                .as_ref()
+                .map(|s| (s.is_surface.as_slice(), s.normal.as_slice()));
+            shifting::displacements(&grad_c, &d, s, h)
+                .into_iter()
+                .map(|d| d / dt)
+                .collect()
+        } else {
+            fl.v.iter().map(|v| -v).collect()
+        };
+        // Held particles move with the inflow, not shifted.
+        u_ps.into_iter()
+            .enumerate()
+            .map(|(i, u)| if ctx.held.holds(i) { Vec2::zeros() } else { u })
+            .collect()
+    }
+
+    /// Step 7, eq. (27): the new positions (Lagrangian frame), velocities `u_new` and
+    /// conformations `conf`, the inlet's momentum `held_momentum`, then the plate contact.
+    /// Returns the momentum the plates gave the fluid by the contact.
+    pub(super) fn advect(
+        &self,
+        st: &mut State,
+        ctx: &Context,
+        u_ps: &[Vec2],
+        u_new: Vec<Vec2>,
+        conf: Vec<Mat2>,
+        held_momentum: Vec2,
+    ) -> Vec2 {
+        let (dom, dt) = (self.p.domain, ctx.dt);
+        let fl = &mut st.fluid;
+        if ctx.lagrangian {
+            for i in 0..ctx.n {
+                fl.x[i] = dom.wrap(fl.x[i] + (fl.v[i] + u_new[i] + 2.0 * u_ps[i]) * (0.5 * dt));
+            }
+        }
+        if let Some(inl) = st.inflow.as_mut() {
+            inl.momentum += held_momentum;
+        }
+        fl.v = u_new;
+        if R::ELASTIC {
+            fl.conf = conf;
+        }
+        let mut contact = Vec2::zeros();
+        for wall in &st.walls {
+            let (m, reflections) = keep_above_plate(&mut st.fluid, wall);
+            contact += m;
+            st.wall_reflections += reflections;
+        }
+        contact
+    }
+}
+
+/// Velocities relative to their mean (summed in index order): the speed King & Lind's shifting
+/// coefficient (41) follows, made independent of the frame (module documentation).
+fn relative_to_mean(u: &[Vec2]) -> Vec<Vec2> {
+    if u.is_empty() {
+        return Vec::new();
+    }
+    let mean = u.iter().fold(Vec2::zeros(), |a, v| a + v) / u.len() as f64;
+    u.iter().map(|v| v - mean).collect()
+}

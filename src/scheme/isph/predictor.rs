@@ -1,0 +1,150 @@
+//! Step 4 of King & Lind 2021's ISPH, the predictor (24):
+//! `u* = u^n + dt [u_ps . grad u^n + nu lap u + div Phi / rho]`. Per particle, in one pass over
+//! the pair cache: the ALE remapping `u_ps . grad u^n` (kappa u_ps), div Phi / rho by the positive
+//! form of (20) with a free surface (L = I; momentum-conserving pairs) and by the corrected
+//! negative form in the closed channel (module documentation, "The closed periodic channel"), and
+//! the part of the solvent (and EVSS) viscosity by Morris' Laplacian (21) that is explicit: all
+//! of it under `isph_viscous_step = explicit` (the paper's (24)), `1 - theta` of it under the
+//! implicit step ([`super::viscous`]), which then solves for the rest. The virtual particles'
+//! share of each pair force is the walls' (`Books::wall_on_fluid`).
+//!
+//! The solvent's free-surface traction ([`super::free_surface`]) is explicit here under the
+//! explicit viscous step and implicit in the viscous solve otherwise. The inlet's held particles
+//! keep their velocity; the momentum the step would have given them is the inlet's.
+
+use super::free_surface::SURFACE_TRACTION_TRANSPOSED;
+use super::{Books, Context, Fields, Isph, MIN_TASK};
+use crate::config::ViscousStep;
+use crate::rheology::Rheology;
+use crate::state::State;
+use crate::Vec2;
+use rayon::prelude::*;
+
+impl<R: Rheology> Isph<R> {
+    /// The predicted velocity u* of the state `st` for the fields `f` of step 3, with the
+    /// inlet's held particles reset to their velocity.
+    pub(super) fn predictor(
+        &self,
+        st: &State,
+        ctx: &Context,
+        f: &Fields,
+        books: &mut Books,
+    ) -> Result<Vec<Vec2>, String> {
+        let fl = &st.fluid;
+        let (n, dt, vol, rho) = (ctx.n, ctx.dt, ctx.vol, self.rho);
+        let (nl, l, pairs) = (&ctx.nl, &ctx.l, &self.pairs);
+        let (kappa, u_ps, mu, phi, phi_virtual) =
+            (&f.kappa, &f.u_ps, &f.mu, &f.phi, &f.phi_virtual);
+        let explicit = self.viscous == ViscousStep::Explicit;
+        // Closed channel: the virtual particles of the viscous term continue the wall curvature
+        // that the wall's momentum balance prescribes.
+        let visc_curv_closed: Vec<Vec2>;
+        let visc_curv: &[Vec2] = if self.free_surface {
+            &ctx.u_curv
+        } else {
+            visc_curv_closed = self.viscous_curvature(ctx, &st.walls, phi, mu);
+            &visc_curv_closed
+        };
+        let u_visc_closed: Vec<Vec2>;
+        let u_visc: &[Vec2] = if self.free_surface {
+            &f.u_n
+        } else {
+            u_visc_closed = ctx.virt.extend_velocity(&fl.v, visc_curv);
+            &u_visc_closed
+        };
+        // Weight of u^n in the viscous term: all of it explicitly, 1 - theta implicitly.
+        let theta = if explicit { 0.0 } else { self.theta };
+        let w_old = 1.0 - theta;
+        let mass = ctx.mass;
+        let free_surface = self.free_surface;
+        let rows: Vec<(Vec2, Vec2, Vec2)> = (0..n)
+            .into_par_iter()
+            .with_min_len(MIN_TASK)
+            .map(|i| {
+                let off = nl.offset(i);
+                let remap = kappa[i] * u_ps[i];
+                let (mut f, mut fw) = (Vec2::zeros(), Vec2::zeros());
+                for (kk, &j) in nl.of(i).iter().enumerate() {
+                    let j = j as usize;
+                    let pj = ctx.source(j);
+                    let mut a = Vec2::zeros();
+                    if R::ELASTIC {
+                        let phi_j = if j < n { phi[j] } else { phi_virtual[j - n] };
+                        a += if free_surface {
+                            (phi[i] + phi_j) * pairs.grad[off + kk] * (vol / rho)
+                        } else {
+                            (phi_j - phi[i]) * (l[i] * pairs.grad[off + kk]) * (vol / rho)
+                        };
+                    }
+                    if w_old > 0.0 {
+                        let c = pairs.morris[off + kk] * 0.5 * (mu[i] + mu[pj]) / rho * w_old;
+                        a += (u_visc[i] - u_visc[j]) * c;
+                    }
+                    if j < n {
+                        f += a;
+                    } else {
+                        fw += a;
+                    }
+                }
+                // Closed channel: the difference form's fluid pairs do not cancel; what they
+                // leave is the force the walls exert through the stress (no other boundary).
+                let on_wall = if free_surface || !R::ELASTIC {
+                    fw
+                } else {
+                    f + fw
+                };
+                (remap, f + fw, on_wall)
+            })
+            .collect();
+        // Closed channel: the body force goes into the predictor (King & Lind eq. (24) as
+        // printed). Nothing balances it but the viscous and polymer stresses, and with the
+        // corrector's g (free-surface scenes, [`super::projection`]) the implicit viscous step
+        // acts on u* = u - g dt: measured, the Newtonian channel then settled g dt (0.067 U at
+        // 30 across) above Poiseuille everywhere, a wall slip of order dt.
+        let g_pred = if self.free_surface {
+            Vec2::zeros()
+        } else {
+            self.p.gravity
+        };
+        let mut rhs: Vec<Vec2> = Vec::with_capacity(n);
+        for (i, (remap, a, aw)) in rows.iter().enumerate() {
+            books.remap_force += remap * mass;
+            books.wall_on_fluid += aw * mass;
+            rhs.push(fl.v[i] + (remap + a + g_pred) * dt);
+        }
+        let held = &ctx.held;
+        if explicit && self.free_surface {
+            // The solvent's surface traction, explicit (the implicit solve's
+            // SurfaceTraction term on u^n): 2 mu_i (G_i + G_i^T) s_i / rho, its mean removed.
+            let acc: Vec<Vec2> = (0..n)
+                .into_par_iter()
+                .with_min_len(MIN_TASK)
+                .map(|i| {
+                    if held.holds(i) {
+                        return Vec2::zeros();
+                    }
+                    let s_i = pairs.gradient_sum(nl, i, vol);
+                    let sym = self.along() * kappa[i]
+                        + SURFACE_TRACTION_TRANSPOSED * kappa[i].transpose();
+                    sym * s_i * (2.0 * mu[i] / rho)
+                })
+                .collect();
+            let mean = held.mean_over_free(acc.iter());
+            for (i, r) in rhs.iter_mut().enumerate() {
+                if !held.holds(i) {
+                    *r += (acc[i] - mean) * dt;
+                }
+            }
+        }
+        let mut u_star = if explicit {
+            rhs
+        } else {
+            self.viscous_step(ctx, mu, visc_curv, theta, rhs, books)?
+        };
+        for i in (0..n).filter(|&i| held.holds(i)) {
+            books.held_momentum += (fl.v[i] - u_star[i]) * mass;
+            u_star[i] = fl.v[i];
+        }
+        Ok(u_star)
+    }
+}
