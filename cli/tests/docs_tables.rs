@@ -96,3 +96,30 @@ fn fixed_parameters_are_the_scenes_own() {
     let plate = text("params_plate.md");
     assert!(plate.contains("moves the plate of: drop |"), "{plate}");
 }
+
+/// Every generated table is shown: some page of the book includes it (a new scene's tables
+/// need a page, or a line on an existing one).
+#[test]
+fn every_generated_table_is_included_by_a_page() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/book/src");
+    let mut pages = String::new();
+    let mut dirs = vec![src.clone()];
+    while let Some(dir) = dirs.pop() {
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                if !path.ends_with("generated") {
+                    dirs.push(path);
+                }
+            } else if path.extension().is_some_and(|e| e == "md") {
+                pages.push_str(&std::fs::read_to_string(&path).unwrap());
+            }
+        }
+    }
+    for (name, _) in viscosph_cli::docs_tables::tables().expect("tables") {
+        assert!(
+            pages.contains(&format!("generated/{name}}}}}")),
+            "no page of docs/book/src includes generated/{name}"
+        );
+    }
+}
