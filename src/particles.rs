@@ -6,7 +6,7 @@ use serde::{Deserialize, Serialize};
 /// The fluid particles: everything the time integration evolves.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
 pub struct Fluid {
-    /// Positions [m].
+    /// Positions \[m\].
     pub x: Vec<Vec2>,
     /// Velocities [m/s].
     pub v: Vec<Vec2>,

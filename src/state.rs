@@ -18,7 +18,7 @@ pub struct Inflow {
     /// particles' and every reset of the inlet particles' velocity to the prescribed one (by
     /// the scene before the step, and by a scheme that holds them through it).
     pub momentum: Vec2,
-    /// The inlet's region: above the height `exit` [m] and within `half_width` [m] of the
+    /// The inlet's region: above the height `exit` \[m\] and within `half_width` \[m\] of the
     /// vertical x = 0 (see [`Inflow::holds`]).
     pub exit: f64,
     pub half_width: f64,
@@ -66,7 +66,7 @@ pub struct State {
     pub wall_force: Vec2,
     /// Time integral of that force since t = 0 [N s/m], global frame.
     pub wall_impulse: Vec2,
-    /// Stable time step at the last step [s] (the step actually taken may be shorter, to land
+    /// Stable time step at the last step \[s\] (the step actually taken may be shorter, to land
     /// on a communication point).
     pub last_dt: f64,
     /// Void fraction after the last step (see [`crate::health`]).

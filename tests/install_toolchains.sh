@@ -9,6 +9,8 @@
 #   then the FMU is built without win64 and fmu-build says so);
 # - the Python venv .venv (tests/python/setup_venv.sh), which also holds PyPI's cargo-zigbuild
 #   and ziglang: fmu-build links the glibc-2.17 linux64 binary with them.
+# - mdbook, pinned, into cargo's bin directory (`cargo install` builds in a directory of its own,
+#   not in target/): the test command builds the user manual (docs/book) with it.
 set -uo pipefail
 cd "$(dirname "$0")/.."
 
@@ -27,6 +29,13 @@ if ! rustc --print target-list >/dev/null 2>&1 || \
    [ ! -d "$(rustc --print sysroot)/lib/rustlib/x86_64-pc-windows-gnu" ]; then
     rustup target add x86_64-pc-windows-gnu || \
         echo "== note: could not install Rust's x86_64-pc-windows-gnu standard library; the FMU will have no win64 binary"
+fi
+
+MDBOOK_VERSION=0.5.4
+MDBOOK="${CARGO_HOME:-$HOME/.cargo}/bin/mdbook"
+if ! "$MDBOOK" --version 2>/dev/null | grep -qx "mdbook v$MDBOOK_VERSION"; then
+    echo "== installing mdbook $MDBOOK_VERSION"
+    cargo install mdbook --locked --version "$MDBOOK_VERSION" || exit 1
 fi
 
 bash tests/python/setup_venv.sh || exit 1

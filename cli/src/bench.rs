@@ -1,6 +1,6 @@
 //! Benchmarks: `viscosph bench <what>`. Speed is measured here, never by timed assertions in tests.
 //!
-//! One file per command under `bench/`: [`drop`], [`throughput`], [`stability`], [`accuracy`]
+//! One file per command under `bench/`: [`mod@drop`], [`throughput`], [`stability`], [`accuracy`]
 //! (with `replot`), [`rheologies`], [`jet`], [`channel`], [`isph`] and [`report`]; here are the
 //! arguments, the dispatch and what several commands share (cases, the convergence order, the
 //! machine description).

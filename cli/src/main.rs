@@ -33,10 +33,10 @@ enum Command {
         /// (other files are left alone).
         #[arg(long)]
         out: PathBuf,
-        /// End time [s]; default t* = 8, i.e. 8 D/V.
+        /// End time \[s\]; default t* = 8, i.e. 8 D/V.
         #[arg(long)]
         t_end: Option<f64>,
-        /// Time between rows of timeseries.csv [s]; default t* = 0.05.
+        /// Time between rows of timeseries.csv \[s\]; default t* = 0.05.
         #[arg(long)]
         output_interval: Option<f64>,
         /// Run even if the run would take more than 10^8 steps.
@@ -47,6 +47,12 @@ enum Command {
     DefaultScene,
     /// Benchmarks: see `viscosph bench --help`.
     Bench(viscosph_cli::bench::BenchArgs),
+    /// Write the manual's generated tables (parameters, outputs, choices, FMU variables) as
+    /// markdown files into a directory (docs/book/src/generated).
+    DocsTables {
+        /// Output directory.
+        dir: PathBuf,
+    },
 }
 
 fn main() -> ExitCode {
@@ -150,6 +156,16 @@ fn main() -> ExitCode {
         }
         Command::Bench(args) => match viscosph_cli::bench::main(args) {
             Ok(()) => ExitCode::SUCCESS,
+            Err(e) => {
+                eprintln!("error: {e}");
+                ExitCode::from(1)
+            }
+        },
+        Command::DocsTables { dir } => match viscosph_cli::docs_tables::write_tables(&dir) {
+            Ok(msg) => {
+                println!("{msg}");
+                ExitCode::SUCCESS
+            }
             Err(e) => {
                 eprintln!("error: {e}");
                 ExitCode::from(1)

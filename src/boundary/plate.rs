@@ -18,11 +18,11 @@ use serde::{Deserialize, Serialize};
 /// The plate and the range of columns built so far.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Plate {
-    /// A point of the plate line: s = d = 0 there [m].
+    /// A point of the plate line: s = d = 0 there \[m\].
     pub origin: Vec2,
     /// Velocity of the plate along its normal, positive away from the fluid (along -n) [m/s].
     pub velocity: f64,
-    /// Distance the plate has moved along -n since t = 0 [m].
+    /// Distance the plate has moved along -n since t = 0 \[m\].
     pub displacement: f64,
     /// Downhill unit tangent.
     pub t: Vec2,

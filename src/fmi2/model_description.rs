@@ -20,10 +20,10 @@ use std::fmt::Write;
 /// (`binaries/linux64/ViscoSPH.so`, FMI 2.0 section 2.3).
 pub const MODEL_IDENTIFIER: &str = "ViscoSPH";
 
-/// Stop time of the default experiment [s]: the drop has spread and retracted by then.
+/// Stop time of the default experiment \[s\]: the drop has spread and retracted by then.
 pub const DEFAULT_STOP_TIME: f64 = 0.16;
 
-/// Communication step of the default experiment [s].
+/// Communication step of the default experiment \[s\].
 pub const DEFAULT_STEP_SIZE: f64 = 0.001;
 
 /// Log categories accepted by `fmi2SetDebugLogging` (FMI 2.0 section 2.2.4 lists these names as

@@ -14,11 +14,11 @@ use serde::{Deserialize, Serialize};
 /// count, and the neighbour grid refuses a period on an axis the positions do not have.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct Domain {
-    /// Period along x [m]; `None` if open along x.
+    /// Period along x \[m\]; `None` if open along x.
     pub period_x: Option<f64>,
-    /// Period along y [m]; `None` if open along y.
+    /// Period along y \[m\]; `None` if open along y.
     pub period_y: Option<f64>,
-    /// Period along z [m] (3D); `None` if open along z.
+    /// Period along z \[m\] (3D); `None` if open along z.
     pub period_z: Option<f64>,
 }
 

@@ -32,7 +32,7 @@ pub struct Cross {
     pub eta0: f64,
     /// Infinite-shear viscosity eta_inf [Pa s].
     pub eta_inf: f64,
-    /// Time constant K [s].
+    /// Time constant K \[s\].
     pub k: f64,
     /// Exponent m.
     pub m: f64,

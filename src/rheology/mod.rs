@@ -191,9 +191,9 @@ pub trait Rheology: Send + Sync + Clone + std::fmt::Debug + 'static {
     /// Largest value `solvent_viscosity` can take plus the polymer viscosity [Pa s]: what the
     /// viscous time-step limit (Fang 2006 eq. 53) must respect.
     fn max_viscosity(&self) -> f64;
-    /// Polymer modulus eta_p / lambda [Pa] (0 for inelastic models).
+    /// Polymer modulus eta_p / lambda \[Pa\] (0 for inelastic models).
     fn modulus(&self) -> f64;
-    /// Relaxation time lambda [s] (infinite for inelastic models).
+    /// Relaxation time lambda \[s\] (infinite for inelastic models).
     fn relaxation_time(&self) -> f64;
     /// Strain function f_S(A) (King & Lind Table I).
     fn strain<const N: usize>(&self, a: &Tensor<N>) -> Tensor<N>;
@@ -301,7 +301,7 @@ where
 }
 
 /// Every model, resolved once from the configuration. Schemes are instantiated per variant
-/// through [`dispatch_rheology!`], so hot loops see a concrete type. UCM has no variant of its
+/// through [`dispatch_rheology!`](crate::dispatch_rheology), so hot loops see a concrete type. UCM has no variant of its
 /// own: it is Oldroyd-B with beta = 0 (King & Lind section II), same f_S and f_R.
 #[derive(Debug, Clone)]
 pub enum AnyRheology {

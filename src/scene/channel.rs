@@ -68,7 +68,7 @@ pub fn columns(cfg: &SceneConfig) -> i64 {
     (l / cfg.dx()).round() as i64
 }
 
-/// The period along x [m] (whole particle spacings).
+/// The period along x \[m\] (whole particle spacings).
 pub fn period(cfg: &SceneConfig) -> f64 {
     columns(cfg) as f64 * cfg.dx()
 }
@@ -79,7 +79,7 @@ pub fn steady_velocity(cfg: &SceneConfig) -> f64 {
         / (8.0 * cfg.fluid.viscosity)
 }
 
-/// The steady wall shear stress rho g H / 2 [Pa].
+/// The steady wall shear stress rho g H / 2 \[Pa\].
 pub fn steady_wall_shear_stress(cfg: &SceneConfig) -> f64 {
     0.5 * cfg.fluid.density * cfg.channel.body_force * cfg.channel.channel_width
 }

@@ -51,7 +51,7 @@ pub trait Scene: Send + Sync {
         ""
     }
 
-    /// The length `particles_per_diameter` counts particles across [m]: the lattice spacing is
+    /// The length `particles_per_diameter` counts particles across \[m\]: the lattice spacing is
     /// dx = reference_length / particles_per_diameter.
     fn reference_length(&self, cfg: &SceneConfig) -> f64;
 
@@ -107,7 +107,7 @@ pub trait Scene: Send + Sync {
         Domain::OPEN
     }
 
-    /// Largest distance from the origin a particle may reach before the run stops [m].
+    /// Largest distance from the origin a particle may reach before the run stops \[m\].
     fn domain_radius(&self, cfg: &SceneConfig) -> f64;
 
     /// Body force per unit mass [m/s2]: gravity, vertically down, unless the scene drives the
@@ -191,7 +191,7 @@ pub trait Scene: Send + Sync {
         3
     }
 
-    /// An inlet to draw on the snapshots: its opening from x0 to x1 at height y [m].
+    /// An inlet to draw on the snapshots: its opening from x0 to x1 at height y \[m\].
     fn inlet_mark(&self, _cfg: &SceneConfig) -> Option<(f64, f64, f64)> {
         None
     }

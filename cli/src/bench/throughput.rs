@@ -16,7 +16,7 @@ pub fn ppd_for(n: f64) -> i64 {
     (4.0 * n / std::f64::consts::PI).sqrt().round() as i64
 }
 
-/// Peak resident set size of this process so far [bytes] (Linux `VmHWM`; `None` elsewhere).
+/// Peak resident set size of this process so far \[bytes\] (Linux `VmHWM`; `None` elsewhere).
 pub fn peak_rss() -> Option<u64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
     let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
@@ -24,7 +24,7 @@ pub fn peak_rss() -> Option<u64> {
     Some(kb * 1024)
 }
 
-/// CPU time this process has used so far, all threads, user and system [s], from
+/// CPU time this process has used so far, all threads, user and system \[s\], from
 /// `/proc/self/stat` (Linux; `None` elsewhere). On a machine shared with other work the wall
 /// clock counts the time others hold the cores; CPU time does not.
 pub fn process_cpu_seconds() -> Option<f64> {

@@ -46,11 +46,11 @@ pub const ELEMENTS_PER_WIDTH: usize = 10;
 /// What [`arrival`] found.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SheetArrival {
-    /// Time at which the leading end has fallen the nozzle height [s].
+    /// Time at which the leading end has fallen the nozzle height \[s\].
     pub time: f64,
     /// Speed of the leading end then [m/s].
     pub tip_speed: f64,
-    /// Narrowest width of the sheet then [m] (as a fraction of D: how thin the column gets,
+    /// Narrowest width of the sheet then \[m\] (as a fraction of D: how thin the column gets,
     /// in particles across when multiplied by `particles_per_diameter`).
     pub min_width: f64,
 }

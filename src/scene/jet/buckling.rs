@@ -7,15 +7,15 @@ use super::{Outputs, Predictions, SceneConfig};
 /// What a record of `jet_deflection` says about buckling (see [`buckling`]).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Buckling {
-    /// When the jet first reached the plate (the heap first had a height) [s]; None if never.
+    /// When the jet first reached the plate (the heap first had a height) \[s\]; None if never.
     pub impact: Option<f64>,
-    /// First time after impact that |jet_deflection| exceeded [`ONSET_FRACTION`] D [s].
+    /// First time after impact that |jet_deflection| exceeded [`ONSET_FRACTION`] D \[s\].
     pub onset: Option<f64>,
     /// Half the peak-to-peak range of `jet_deflection` over the second half of the record after
-    /// impact [m].
+    /// impact \[m\].
     pub amplitude: f64,
     /// Frequency of the oscillation after onset: mean-crossings of the deflection over twice
-    /// the time they span [Hz]; 0 with fewer than three crossings. Onset, amplitude and
+    /// the time they span \[Hz\]; 0 with fewer than three crossings. Onset, amplitude and
     /// frequency leave out the outputs at which no fluid was in the band (`jet_deflection`
     /// exactly 0, a gap of a torn column).
     pub frequency: f64,

@@ -25,7 +25,7 @@
 //! `Inflow::momentum` (the state's inlet), so the fluid's momentum balance closes: the wall impulse equals the
 //! inflow's momentum plus the gravity impulse on all particles minus the momentum held.
 //! A scheme that needs a pressure condition at the inlet (ISPH: Neumann, King & Lind's moving
-//! ghosts) finds the inlet particles the same way, through [`Inflow::holds`] on the state.
+//! ghosts) finds the inlet particles the same way, through [`Inflow::holds`](crate::state::Inflow::holds) on the state.
 //!
 //! **Outputs** (besides the health figures, the wall forces and `particle_count`):
 //!
@@ -243,7 +243,7 @@ impl Scene for Jet {
         st
     }
 
-    /// The inflow (see the module documentation and [`nozzle::advance`]).
+    /// The inflow (see the module documentation and `nozzle::advance`).
     fn before_step(&self, cfg: &SceneConfig, st: &mut State) {
         nozzle::advance(cfg, st);
     }

@@ -19,11 +19,11 @@ pub fn buffer_rows(cfg: &SceneConfig) -> i64 {
 /// The nozzle: where particles are held at the inflow state.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Nozzle {
-    /// Height of the exit above the impact point [m].
+    /// Height of the exit above the impact point \[m\].
     pub exit: f64,
-    /// Half the jet width [m].
+    /// Half the jet width \[m\].
     pub half_width: f64,
-    /// Particle spacing [m].
+    /// Particle spacing \[m\].
     pub dx: f64,
     /// Particles across the jet.
     pub columns: i64,
@@ -87,9 +87,9 @@ impl Nozzle {
 pub struct InflowLog {
     /// Inflow velocity in force since the last update [m/s] (the `jet_velocity` input).
     pub velocity: f64,
-    /// Length of fluid that has entered since the last row was emitted, in [0, dx) [m].
+    /// Length of fluid that has entered since the last row was emitted, in [0, dx) \[m\].
     pub phase: f64,
-    /// Time of the last update [s].
+    /// Time of the last update \[s\].
     pub updated: f64,
     /// Rows emitted since t = 0.
     pub rows: u64,

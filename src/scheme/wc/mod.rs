@@ -361,7 +361,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
     }
 
     /// One explicit update `out = base + dt * rates` of every evolved field, with the rates of
-    /// the last [`Core::rates`] call: positions with the velocities `vel`, velocities with the
+    /// the last [`WcCore::rates`] call: positions with the velocities `vel`, velocities with the
     /// accelerations, densities with the continuity rates, and the conformation tensor by
     /// [`rheology::advance`] from `base` with the rate evaluated at `conf_eval` and the last
     /// velocity gradients.
