@@ -59,9 +59,13 @@ pub struct State {
     pub time: f64,
     pub step: u64,
     pub fluid: Fluid,
-    /// The rigid walls: the drop's plate (none for the elliptical drop). The first wall's
-    /// velocity is the input `plate_velocity` in force.
+    /// The rigid walls (none for the elliptical drop), each with its own motion
+    /// ([`crate::boundary::plate::Motion`]).
     pub walls: Vec<Plate>,
+    /// Which of `walls` is "the plate" the shared outputs refer to (its frame, displacement
+    /// and force; see [`crate::scene::Scene::plate_wall`]), if any.
+    #[serde(default)]
+    pub plate: Option<usize>,
     /// Force of the fluid on the walls at the last step's corrector stage [N/m], global frame.
     pub wall_force: Vec2,
     /// Time integral of that force since t = 0 [N s/m], global frame.
@@ -94,13 +98,15 @@ pub struct State {
 }
 
 impl State {
-    /// The initial state of a fluid and its walls.
-    pub fn new(fluid: Fluid, walls: Vec<Plate>) -> Self {
+    /// The initial state of a fluid and its walls, `plate` naming the plate among them.
+    pub fn new(fluid: Fluid, walls: Vec<Plate>, plate: Option<usize>) -> Self {
+        debug_assert!(plate.is_none_or(|k| k < walls.len()));
         Self {
             time: 0.0,
             step: 0,
             fluid,
             walls,
+            plate,
             wall_force: Vec2::zeros(),
             wall_impulse: Vec2::zeros(),
             last_dt: 0.0,
@@ -114,8 +120,13 @@ impl State {
         }
     }
 
-    /// The plate (the first wall), if there is one.
+    /// The wall the scene named its plate, if any.
     pub fn plate(&self) -> Option<&Plate> {
-        self.walls.first()
+        self.plate.and_then(|k| self.walls.get(k))
+    }
+
+    /// The plate, mutably.
+    pub fn plate_mut(&mut self) -> Option<&mut Plate> {
+        self.plate.and_then(|k| self.walls.get_mut(k))
     }
 }

@@ -92,6 +92,12 @@ impl SceneType for Channel {
 }
 
 impl Scene for Channel {
+    /// The bottom wall: the frame of the shared outputs (its force is the shear force on it).
+    /// It stays fixed: no input moves a channel wall.
+    fn plate_wall(&self) -> Option<usize> {
+        Some(0)
+    }
+
     /// The width H.
     fn reference_length(&self, cfg: &SceneConfig) -> f64 {
         cfg.channel.channel_width

@@ -10,6 +10,7 @@ use crate::config::ArtificialStressKind;
 use crate::eos::Eos;
 use crate::particles::Fluid;
 use crate::rheology::Rheology;
+use crate::state::State;
 use rayon::prelude::*;
 
 /// A particle this far below a plate (in particle spacings) has gone through it.
@@ -21,9 +22,17 @@ const MIN_TASK_LIGHT: usize = 1024;
 
 /// Health of a weakly compressible state after a step: the void fraction, or the cause of a
 /// breakdown.
-pub fn check_health<R: Rheology>(p: &Params, fl: &Fluid, walls: &[Plate]) -> Result<f64, String> {
-    check_particles(fl, walls, p.dx, p.domain_radius, R::ELASTIC, Some(&p.eos))?;
-    let voids = fluid_void_fraction(fl, walls.first(), p.dx);
+pub fn check_health<R: Rheology>(p: &Params, st: &State) -> Result<f64, String> {
+    let fl = &st.fluid;
+    check_particles(
+        fl,
+        &st.walls,
+        p.dx,
+        p.domain_radius,
+        R::ELASTIC,
+        Some(&p.eos),
+    )?;
+    let voids = fluid_void_fraction(fl, st.plate(), p.dx);
     if p.fracture_void_fraction > 0.0 && voids > p.fracture_void_fraction {
         let knob = match p.art_kind {
             ArtificialStressKind::Fang => "artificial_stress_epsilon",

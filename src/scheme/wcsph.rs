@@ -91,7 +91,7 @@ impl<K: Kernel, R: Rheology> Scheme for Wcsph<K, R> {
         st.wall_force = -r1.wall_on_fluid - contact / dt;
         st.wall_impulse += -r1.wall_on_fluid * dt - contact;
         st.last_dt = dt_stable;
-        st.void_fraction = check_health::<R>(&c.p, &st.fluid, &st.walls)?;
+        st.void_fraction = check_health::<R>(&c.p, st)?;
         Ok(dt)
     }
 

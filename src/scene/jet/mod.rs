@@ -128,6 +128,11 @@ impl SceneType for Jet {
 }
 
 impl Scene for Jet {
+    /// The plate the jet falls on (the container's sides, if any, come after it).
+    fn plate_wall(&self) -> Option<usize> {
+        Some(0)
+    }
+
     /// King & Lind's jet ([`DEFAULTS`]).
     fn defaults(&self) -> &'static str {
         DEFAULTS
@@ -238,7 +243,7 @@ impl Scene for Jet {
     /// [`Scene::build`]'s fluid and walls, the inlet and its bookkeeping.
     fn initial_state(&self, cfg: &SceneConfig, rest: Option<Mat2>) -> State {
         let (fluid, walls) = self.build(cfg, rest);
-        let mut st = State::new(fluid, walls);
+        let mut st = State::new(fluid, walls, self.plate_wall());
         nozzle::start(cfg, &mut st);
         st
     }

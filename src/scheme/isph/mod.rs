@@ -411,7 +411,7 @@ impl<R: Rheology> Scheme for Isph<R> {
             R::ELASTIC,
             None,
         )?;
-        st.void_fraction = health::fluid_void_fraction(&st.fluid, st.walls.first(), self.p.dx);
+        st.void_fraction = health::fluid_void_fraction(&st.fluid, st.plate(), self.p.dx);
         self.timings.pressure_solve += books.pressure_time;
         self.timings.viscous_solve += books.viscous_time;
         self.timings.total += t_start.elapsed().as_secs_f64();
