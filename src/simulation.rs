@@ -248,9 +248,13 @@ impl Simulation {
     pub fn set_wall_motion(&mut self, wall: usize, motion: Motion) -> Result<(), SimError> {
         let n = self.state.walls.len();
         let t = self.t_comm;
-        let w = self.state.walls.get_mut(wall).ok_or_else(|| {
-            SimError::Request(format!("no wall {wall} (this scene has {n} walls)"))
-        })?;
+        let w = self
+            .state
+            .walls
+            .get_mut(wall)
+            .ok_or_else(|| SimError::Request(format!("no wall {wall} (this scene has {n} walls)")))?
+            .plate_mut()
+            .ok_or_else(|| SimError::Request(format!("wall {wall} is not straight: it is fixed")))?;
         w.motion = motion;
         if let Motion::Prescribed(p) = motion {
             w.velocity = p.at(t);

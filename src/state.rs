@@ -2,6 +2,7 @@
 //! saved state restores in another process (FMI get/set/serialize FMU state).
 
 use crate::boundary::plate::Plate;
+use crate::boundary::wall::Wall;
 use crate::particles::Fluid;
 use crate::Vec2;
 use serde::de::DeserializeOwned;
@@ -61,7 +62,7 @@ pub struct State {
     pub fluid: Fluid,
     /// The rigid walls (none for the elliptical drop), each with its own motion
     /// ([`crate::boundary::plate::Motion`]).
-    pub walls: Vec<Plate>,
+    pub walls: Vec<Wall>,
     /// Which of `walls` is "the plate" the shared outputs refer to (its frame, displacement
     /// and force; see [`crate::scene::Scene::plate_wall`]), if any.
     #[serde(default)]
@@ -99,7 +100,7 @@ pub struct State {
 
 impl State {
     /// The initial state of a fluid and its walls, `plate` naming the plate among them.
-    pub fn new(fluid: Fluid, walls: Vec<Plate>, plate: Option<usize>) -> Self {
+    pub fn new(fluid: Fluid, walls: Vec<Wall>, plate: Option<usize>) -> Self {
         debug_assert!(plate.is_none_or(|k| k < walls.len()));
         Self {
             time: 0.0,
@@ -120,13 +121,17 @@ impl State {
         }
     }
 
-    /// The wall the scene named its plate, if any.
+    /// The wall the scene named its plate, if any (a straight wall).
     pub fn plate(&self) -> Option<&Plate> {
-        self.plate.and_then(|k| self.walls.get(k))
+        self.plate
+            .and_then(|k| self.walls.get(k))
+            .and_then(Wall::plate)
     }
 
     /// The plate, mutably.
     pub fn plate_mut(&mut self) -> Option<&mut Plate> {
-        self.plate.and_then(|k| self.walls.get_mut(k))
+        self.plate
+            .and_then(|k| self.walls.get_mut(k))
+            .and_then(Wall::plate_mut)
     }
 }

@@ -6,9 +6,15 @@
 //! wall (appended after the fluid in the scheme's work arrays), then fills their velocities and
 //! stresses from the fluid before each pass that reads them. The force the virtual particles
 //! exert on the fluid is the wall's reaction; the scheme sums it in its momentum pass. The wall's
-//! geometry and motion (a [`plate::Plate`]) live in the simulation state; a boundary holds only
-//! what it rebuilds from the state (interpolation lists, mirror parents), so nothing is stored
-//! twice.
+//! shape, pose and motion (a [`wall::Wall`]: a straight [`plate::Plate`] or a circle, each a
+//! [`crate::geometry::Shape`]) live in the simulation state, and the wall integrates its own
+//! motion ([`plate::Motion`]); a boundary holds only what it rebuilds from the state
+//! (interpolation lists, mirror parents), so nothing is stored twice.
+//!
+//! Which model fits which shape: Fang's and Ren's virtual particles are built in a straight
+//! wall's frame (columns along it), so they take straight walls only; King & Lind's mirrors need
+//! only the signed distance and the reflection across the local tangent, so they take any
+//! [`crate::geometry::Shape`] (a circle: `x_m = 2 c(x) - x`, c the closest point).
 //!
 //! The incompressible scheme needs more than filled values: its pressure Poisson equation and
 //! implicit viscous step take the virtual particles' values as unknowns of linear systems, so a
@@ -21,12 +27,13 @@
 pub mod ghost;
 pub mod mirror;
 pub mod plate;
+pub mod wall;
 pub mod wall_profile;
 
 use crate::neighbors::CellGrid;
 use crate::particles::Fluid;
 use crate::{Mat2, Vec2};
-use plate::Plate;
+use wall::Wall;
 
 /// A wall model acting on the fluid through virtual particles.
 pub trait Boundary: Send + Sync {
@@ -35,7 +42,7 @@ pub trait Boundary: Send + Sync {
     /// with cells of side `radius`, the search radius).
     fn place(
         &mut self,
-        wall: &mut Plate,
+        wall: &mut Wall,
         fluid_x: &[Vec2],
         fluid_grid: &CellGrid,
         radius: f64,
@@ -43,13 +50,13 @@ pub trait Boundary: Send + Sync {
     );
 
     /// Velocities of this wall's virtual particles (in the order of [`Boundary::place`]).
-    fn fill_velocities(&self, wall: &Plate, fluid: &Fluid, out: &mut [Vec2]);
+    fn fill_velocities(&self, wall: &Wall, fluid: &Fluid, out: &mut [Vec2]);
 
     /// Stresses of this wall's virtual particles from the fluid's total stresses `sigma` and
     /// elastic stresses `tau_p` (empty for inelastic models).
     fn fill_stresses(
         &self,
-        wall: &Plate,
+        wall: &Wall,
         fluid: &Fluid,
         sigma: &[Mat2],
         tau_p: &[Mat2],
@@ -57,7 +64,7 @@ pub trait Boundary: Send + Sync {
     );
 
     /// Positions of the virtual particles placed at the last [`Boundary::place`], for output.
-    fn positions(&self, wall: &Plate) -> Vec<Vec2>;
+    fn positions(&self, wall: &Wall) -> Vec<Vec2>;
 
     /// The fluid particle each virtual particle of the last [`Boundary::place`] continues across
     /// the wall, in the order of `place`, for a model whose virtual particles each follow one
@@ -73,9 +80,9 @@ pub trait Boundary: Send + Sync {
     /// Append to `out`, per virtual particle of [`Boundary::parents`], the velocity of the wall's
     /// material at the point the particle is continued across: the no-slip continuation is
     /// `u_m = 2 u_wall - u_parent`, so a particle and its virtual twin average to the wall's
-    /// velocity there. The default is the plate's rigid motion (the same at every point); a
+    /// velocity there. The default is the wall's rigid motion (the same at every point); a
     /// wall that rotates or deforms overrides it.
-    fn wall_velocities(&self, wall: &Plate, out: &mut Vec<Vec2>) {
+    fn wall_velocities(&self, wall: &Wall, out: &mut Vec<Vec2>) {
         out.extend(std::iter::repeat_n(
             wall.wall_velocity(),
             self.parents().len(),

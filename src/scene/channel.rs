@@ -21,6 +21,7 @@
 use super::{time_text, Outputs, Predictions, Scene, SceneConfig, SceneType};
 use super::{TimePlot, TimePlotPanel};
 use crate::boundary::plate::Plate;
+use crate::boundary::wall::Wall;
 use crate::config::{real, real_pos, ConfigError};
 use crate::diagnostics::SharedOutputs;
 use crate::neighbors::Domain;
@@ -152,7 +153,7 @@ impl Scene for Channel {
         false
     }
 
-    fn build(&self, cfg: &SceneConfig, rest: Option<Mat2>) -> (Fluid, Vec<Plate>) {
+    fn build(&self, cfg: &SceneConfig, rest: Option<Mat2>) -> (Fluid, Vec<Wall>) {
         let dx = cfg.dx();
         let (n, m) = (cfg.numerics.particles_per_diameter, columns(cfg));
         let mut fluid = Fluid {
@@ -184,7 +185,7 @@ impl Scene for Channel {
         // The upper wall faces down: tangent -x, normal -y; its columns at s = -k dx sit at
         // x = k dx, k = 0 .. m-1.
         let top = Plate::spanning(Vec2::new(0.0, h), Vec2::new(-1.0, 0.0), dx, 1 - m, 0);
-        (fluid, vec![bottom, top])
+        (fluid, vec![bottom.into(), top.into()])
     }
 
     /// Fang's nested viscous operator lets the rows next to a wall zigzag (see
@@ -352,6 +353,7 @@ mod tests {
             .iter()
             .all(|x| x.x > 0.0 && x.x < 0.016 && x.y > 0.001 && x.y < 0.019));
         // Both walls: normals into the fluid, eight columns at x = 0, dx, ... 7 dx.
+        let walls: Vec<&Plate> = walls.iter().map(|w| w.plate().unwrap()).collect();
         assert_eq!(walls[0].n, Vec2::new(0.0, 1.0));
         assert_eq!(walls[1].n, Vec2::new(0.0, -1.0));
         for w in &walls {

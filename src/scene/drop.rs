@@ -3,6 +3,7 @@
 
 use super::{Scene, SceneConfig, SceneType};
 use crate::boundary::plate::{Motion, Plate};
+use crate::boundary::wall::Wall;
 use crate::config::{real, real_pos, ConfigError};
 use crate::diagnostics::NoOutputs;
 use crate::particles::Fluid;
@@ -117,9 +118,9 @@ impl Scene for Drop {
         Ok(())
     }
 
-    fn build(&self, cfg: &SceneConfig, rest: Option<Mat2>) -> (Fluid, Vec<Plate>) {
+    fn build(&self, cfg: &SceneConfig, rest: Option<Mat2>) -> (Fluid, Vec<Wall>) {
         let (fluid, plate) = build(cfg, rest);
-        (fluid, vec![plate.with_motion(Motion::Input)])
+        (fluid, vec![plate.with_motion(Motion::Input).into()])
     }
 
     /// The impact velocity (sqrt(g D) if the drop is released at rest).

@@ -23,7 +23,7 @@ pub use table::{
     param_spec, NAME_SUFFIX, NAME_VR_OFFSET, OUTPUTS, PARAMS,
 };
 
-use crate::boundary::plate::Plate;
+use crate::boundary::wall::Wall;
 use crate::choice::Choice;
 use crate::config::{
     ConfigError, FluidParams, IsphFreeSurface, Numerics, ParamGroup, ParamSpec, ParamValue,
@@ -136,7 +136,7 @@ pub trait Scene: Send + Sync {
 
     /// The initial fluid and walls. `rest` is the model's conformation at rest, or None for
     /// models without a conformation tensor.
-    fn build(&self, cfg: &SceneConfig, rest: Option<Mat2>) -> (Fluid, Vec<Plate>);
+    fn build(&self, cfg: &SceneConfig, rest: Option<Mat2>) -> (Fluid, Vec<Wall>);
 
     /// The initial state: [`Scene::build`]'s fluid and walls, and whatever else the scene
     /// keeps in the state (the jet's inlet and its bookkeeping).

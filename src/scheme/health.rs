@@ -6,6 +6,8 @@
 
 use super::params::Params;
 use crate::boundary::plate::Plate;
+use crate::boundary::wall::Wall;
+use crate::geometry::Shape;
 use crate::config::ArtificialStressKind;
 use crate::eos::Eos;
 use crate::particles::Fluid;
@@ -55,7 +57,7 @@ pub fn check_health<R: Rheology>(p: &Params, st: &State) -> Result<f64, String> 
 /// plate (no particle more than [`PENETRATION_DEPTH`] spacings `dx` below it).
 pub fn check_particles(
     fl: &Fluid,
-    walls: &[Plate],
+    walls: &[Wall],
     dx: f64,
     domain_radius: f64,
     elastic: bool,
@@ -107,7 +109,7 @@ pub fn check_particles(
             ));
         }
         for pl in walls {
-            if pl.d(&fl.x[i]) < -PENETRATION_DEPTH * dx {
+            if pl.signed_distance(&fl.x[i]) < -PENETRATION_DEPTH * dx {
                 return Err(format!("particle {i} went through the plate"));
             }
         }
@@ -132,7 +134,7 @@ mod tests {
     use crate::{Mat2, Vec2};
 
     /// A 10 x 10 lattice of spacing `dx` above a level plate, at rest and at rho0.
-    fn lattice(dx: f64) -> (Fluid, Vec<Plate>) {
+    fn lattice(dx: f64) -> (Fluid, Vec<Wall>) {
         let mut fl = Fluid {
             mass: 1000.0 * dx * dx,
             ..Default::default()
@@ -146,7 +148,7 @@ mod tests {
             fl.rho.push(1000.0);
             fl.conf.push(Mat2::identity());
         }
-        (fl, vec![Plate::new(0.0, dx)])
+        (fl, vec![Plate::new(0.0, dx).into()])
     }
 
     /// Every scheme's checks, in their order: a healthy state passes; a non-finite value names
@@ -160,7 +162,7 @@ mod tests {
             rho0: 1000.0,
             c: 10.0,
         };
-        let check = |fl: &Fluid, walls: &[Plate], eos: Option<&Eos>| {
+        let check = |fl: &Fluid, walls: &[Wall], eos: Option<&Eos>| {
             check_particles(fl, walls, dx, 1.0, true, eos)
         };
         let (fl, walls) = lattice(dx);

@@ -15,7 +15,7 @@ pub mod pdri;
 pub mod wc;
 pub mod wcsph;
 
-use crate::boundary::plate::Plate;
+use crate::boundary::wall::Wall;
 use crate::config::{ConfigError, FluidParams, IsphFrame, IsphFreeSurface, Numerics, ParamSpec};
 use crate::kernel::CubicSpline;
 use crate::rheology::{AnyRheology, Rheology};
@@ -167,7 +167,7 @@ pub fn build(
     fluid: &FluidParams,
     numerics: &Numerics,
     params: Params,
-    plates: &[Plate],
+    plates: &[Wall],
 ) -> Box<dyn Scheme> {
     let model = AnyRheology::from_fluid(fluid);
     let h = numerics.smoothing_ratio * params.dx;

@@ -31,7 +31,7 @@ use super::params::Params;
 use super::wc::{ghost_walls, WcCore};
 use super::Scheme;
 use crate::boundary::ghost::WallModel;
-use crate::boundary::plate::Plate;
+use crate::boundary::wall::Wall;
 use crate::kernel::Kernel;
 use crate::neighbors::Domain;
 use crate::particles::Fluid;
@@ -65,7 +65,7 @@ pub struct Pdri<K: Kernel, R: Rheology> {
 impl<K: Kernel, R: Rheology> Pdri<K, R> {
     /// The scheme for the walls `plates` of the initial state, each with Ren's wall and ghost
     /// particles.
-    pub fn new(kernel: K, model: R, p: Params, plates: &[Plate]) -> Self {
+    pub fn new(kernel: K, model: R, p: Params, plates: &[Wall]) -> Self {
         let walls = ghost_walls(kernel, WallModel::Ren, &p, plates);
         Self {
             core: WcCore::new(kernel, model, p, walls),

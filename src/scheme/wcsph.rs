@@ -33,8 +33,8 @@ use super::health::check_health;
 use super::params::Params;
 use super::wc::{ghost_walls, WcCore};
 use super::Scheme;
-use crate::boundary::ghost::{keep_above_plate, WallModel};
-use crate::boundary::plate::Plate;
+use crate::boundary::ghost::{keep_out_of_wall, WallModel};
+use crate::boundary::wall::Wall;
 use crate::kernel::Kernel;
 use crate::particles::Fluid;
 use crate::rheology::Rheology;
@@ -51,7 +51,7 @@ pub struct Wcsph<K: Kernel, R: Rheology> {
 impl<K: Kernel, R: Rheology> Wcsph<K, R> {
     /// The scheme for the walls `plates` of the initial state, each with Fang's boundary and
     /// image particles.
-    pub fn new(kernel: K, model: R, p: Params, plates: &[Plate]) -> Self {
+    pub fn new(kernel: K, model: R, p: Params, plates: &[Wall]) -> Self {
         let walls = ghost_walls(kernel, WallModel::Fang, &p, plates);
         Self {
             core: WcCore::new(kernel, model, p, walls),
@@ -81,7 +81,7 @@ impl<K: Kernel, R: Rheology> Scheme for Wcsph<K, R> {
         std::mem::swap(&mut st.fluid, &mut self.next);
         let mut contact = Vec2::zeros();
         for wall in &st.walls {
-            let (m, reflections) = keep_above_plate(&mut st.fluid, wall);
+            let (m, reflections) = keep_out_of_wall(&mut st.fluid, wall);
             contact += m;
             st.wall_reflections += reflections;
         }

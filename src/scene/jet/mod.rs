@@ -43,6 +43,7 @@
 
 use super::{Outputs, Predictions, Scene, SceneConfig, SceneType};
 use crate::boundary::plate::Plate;
+use crate::boundary::wall::Wall;
 use crate::config::{real, real_pos, ConfigError, IsphFreeSurface};
 use crate::diagnostics::SharedOutputs;
 use crate::particles::Fluid;
@@ -214,7 +215,7 @@ impl Scene for Jet {
 
     /// The plate, the side walls if any, and a full nozzle: [`buffer_rows`] rows of particles at
     /// the inflow state above the exit.
-    fn build(&self, cfg: &SceneConfig, rest: Option<Mat2>) -> (Fluid, Vec<Plate>) {
+    fn build(&self, cfg: &SceneConfig, rest: Option<Mat2>) -> (Fluid, Vec<Wall>) {
         let dx = cfg.dx();
         let plate = Plate::new(cfg.plate.plate_inclination, dx);
         let nz = Nozzle::from_config(cfg);
@@ -235,8 +236,8 @@ impl Scene for Jet {
                 }
             }
         }
-        let mut walls = vec![plate.clone()];
-        walls.extend(side_walls(&plate, cfg.jet.container_width));
+        let mut walls: Vec<Wall> = vec![plate.clone().into()];
+        walls.extend(side_walls(&plate, cfg.jet.container_width).into_iter().map(Wall::from));
         (fluid, walls)
     }
 

@@ -94,7 +94,7 @@ pub mod walls;
 use super::health;
 use super::params::Params;
 use super::Scheme;
-use crate::boundary::plate::Plate;
+use crate::boundary::wall::Wall;
 use crate::boundary::Boundary;
 use crate::config::{ConformationMethod, IsphFrame, IsphFreeSurface, Numerics, ViscousStep};
 use crate::kernel::{Kernel, QuinticSpline};
@@ -165,7 +165,7 @@ impl<R: Rheology> Isph<R> {
     /// The scheme for the numerics `cfg` of an effective configuration, the constants `p` (which
     /// say whether the scene has a free surface and what `auto` means for it) and the plates of
     /// the initial state.
-    pub fn new(model: R, p: Params, cfg: &Numerics, plates: &[Plate]) -> Self {
+    pub fn new(model: R, p: Params, cfg: &Numerics, plates: &[Wall]) -> Self {
         let kernel = QuinticSpline::new(H_OVER_DX * p.dx);
         // The EVSS floor was measured on drops; the closed channel keeps the configured
         // alpha_V (King & Lind's beta = 0 channel uses alpha_V = 0.01).

@@ -24,7 +24,7 @@
 
 use super::params::Params;
 use crate::boundary::ghost::{GhostWall, WallModel};
-use crate::boundary::plate::Plate;
+use crate::boundary::wall::Wall;
 use crate::boundary::Boundary;
 use crate::kernel::Kernel;
 use crate::neighbors::{CellGrid, NeighborList};
@@ -49,7 +49,7 @@ pub fn ghost_walls<K: Kernel>(
     kernel: K,
     model: WallModel,
     p: &Params,
-    plates: &[Plate],
+    plates: &[Wall],
 ) -> Vec<Box<dyn Boundary>> {
     plates
         .iter()
@@ -161,7 +161,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
 
     /// Rebuild the neighbour lists (and grow the walls) if any particle or wall moved more than
     /// half the skin since the last build.
-    pub fn refresh_neighbors(&mut self, x: &[Vec2], plates: &mut [Plate]) {
+    pub fn refresh_neighbors(&mut self, x: &[Vec2], plates: &mut [Wall]) {
         let half_skin = 0.5 * SKIN * self.kernel.h();
         let half_skin2 = half_skin * half_skin;
         let dom = self.p.domain;
@@ -170,7 +170,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
             || plates
                 .iter()
                 .zip(&self.built_walls)
-                .any(|(pl, d)| (pl.displacement - d).abs() > half_skin)
+                .any(|(pl, d)| (pl.displacement() - d).abs() > half_skin)
             || x.par_iter()
                 .zip(self.built_x.par_iter())
                 .with_min_len(MIN_TASK_LIGHT)
@@ -200,7 +200,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
             NeighborList::default()
         };
         self.built_x = x.to_vec();
-        self.built_walls = plates.iter().map(|p| p.displacement).collect();
+        self.built_walls = plates.iter().map(|p| p.displacement()).collect();
         let n = self.all_x.len();
         let rho0 = self.p.eos.rho0;
         self.all_v.resize(n, Vec2::zeros());
@@ -258,7 +258,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
 
     /// One rate evaluation at fluid state `fl` with the walls `plates`: fills kappa, drho, acc
     /// (and the wall part).
-    pub fn rates(&mut self, fl: &Fluid, plates: &[Plate]) -> StageReport {
+    pub fn rates(&mut self, fl: &Fluid, plates: &[Wall]) -> StageReport {
         let nf = fl.len();
         self.all_x[..nf].copy_from_slice(&fl.x);
         for (((wall, plate), range), built) in self
@@ -268,7 +268,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
             .zip(&self.wall_ranges)
             .zip(&self.built_walls)
         {
-            if plate.displacement != *built {
+            if plate.displacement() != *built {
                 // A moving plate: its virtual particles follow it at every evaluation, not only
                 // when the lists are rebuilt (the lists, built with a skin, stay valid until it
                 // has moved half the skin).
@@ -395,7 +395,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
     }
 
     /// Positions of the virtual particles of the walls `plates`.
-    pub fn wall_positions(&self, plates: &[Plate]) -> Vec<Vec2> {
+    pub fn wall_positions(&self, plates: &[Wall]) -> Vec<Vec2> {
         self.walls
             .iter()
             .zip(plates)
