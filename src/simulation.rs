@@ -108,6 +108,20 @@ fn apply_plate_input(cfg: &SceneConfig, st: &mut State) {
     }
 }
 
+/// Whether every wall of the initial state takes the wall model `wall_boundary` asks for under
+/// `scheme` ([`crate::boundary::resolve`]).
+fn check_wall_models(
+    scheme: crate::scheme::SchemeKind,
+    choice: crate::config::WallBoundary,
+    st: &State,
+) -> Result<(), ConfigError> {
+    let paper = scheme.paper_wall_model();
+    for w in &st.walls {
+        crate::boundary::resolve(choice, paper, w).map_err(ConfigError::Inconsistent)?;
+    }
+    Ok(())
+}
+
 fn thread_pool(cfg: &SceneConfig) -> Result<Arc<rayon::ThreadPool>, SimError> {
     rayon::ThreadPoolBuilder::new()
         .num_threads(cfg.numerics.threads as usize)
@@ -148,6 +162,7 @@ impl Simulation {
         let mut state = scene.initial_state(&eff, rest);
         apply_plate_input(&eff, &mut state);
         let params = eff.scheme_params();
+        check_wall_models(eff.scheme, params.wall_boundary, &state)?;
         let scheme = crate::scheme::build(
             eff.scheme,
             &eff.fluid,
@@ -254,7 +269,9 @@ impl Simulation {
             .get_mut(wall)
             .ok_or_else(|| SimError::Request(format!("no wall {wall} (this scene has {n} walls)")))?
             .plate_mut()
-            .ok_or_else(|| SimError::Request(format!("wall {wall} is not straight: it is fixed")))?;
+            .ok_or_else(|| {
+                SimError::Request(format!("wall {wall} is not straight: it is fixed"))
+            })?;
         w.motion = motion;
         if let Motion::Prescribed(p) = motion {
             w.velocity = p.at(t);

@@ -71,6 +71,16 @@ pub struct State {
     pub wall_force: Vec2,
     /// Time integral of that force since t = 0 [N s/m], global frame.
     pub wall_impulse: Vec2,
+    /// The force of the fluid on each wall alone (in the order of `walls`) at the last step,
+    /// measured as `wall_force` is \[N/m\]: the cylinder's drag and lift apart from the channel
+    /// walls' shear. Empty when the scheme does not split it (the incompressible scheme with
+    /// more than one wall: its implicit steps move momentum between fluid and all walls at
+    /// once).
+    #[serde(default)]
+    pub wall_forces: Vec<Vec2>,
+    /// Time integral of each wall's force since t = 0 \[N s/m\] (as `wall_forces`).
+    #[serde(default)]
+    pub wall_impulses: Vec<Vec2>,
     /// Stable time step at the last step \[s\] (the step actually taken may be shorter, to land
     /// on a communication point).
     pub last_dt: f64,
@@ -110,6 +120,8 @@ impl State {
             plate,
             wall_force: Vec2::zeros(),
             wall_impulse: Vec2::zeros(),
+            wall_forces: Vec::new(),
+            wall_impulses: Vec::new(),
             last_dt: 0.0,
             void_fraction: 0.0,
             wall_reflections: 0,
@@ -126,6 +138,18 @@ impl State {
         self.plate
             .and_then(|k| self.walls.get(k))
             .and_then(Wall::plate)
+    }
+
+    /// Book each wall's force at the last step, `forces` [N/m] over the step `dt` (one per
+    /// wall; empty: not split).
+    pub fn book_wall_forces(&mut self, forces: Vec<Vec2>, dt: f64) {
+        if self.wall_impulses.len() != forces.len() {
+            self.wall_impulses = vec![Vec2::zeros(); forces.len()];
+        }
+        for (i, f) in self.wall_impulses.iter_mut().zip(&forces) {
+            *i += f * dt;
+        }
+        self.wall_forces = forces;
     }
 
     /// The plate, mutably.

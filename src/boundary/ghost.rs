@@ -11,8 +11,8 @@
 //! h = 1.5 dx, as in both papers).
 
 use super::wall::Wall;
-use crate::geometry::Shape;
 use super::Boundary;
+use crate::geometry::Shape;
 use crate::kernel::Kernel;
 use crate::neighbors::{CellGrid, Domain, NeighborList};
 use crate::particles::Fluid;
@@ -137,15 +137,7 @@ impl<K: Kernel> Boundary for GhostWall<K> {
     ) {
         let whole = wall;
         let wall = whole.straight_mut();
-        let (lo, hi) = fluid_x
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
-                let s = wall.s(p);
-                (lo.min(s), hi.max(s))
-            });
-        if lo.is_finite() {
-            wall.cover(lo - 3.0 * radius, hi + 3.0 * radius);
-        }
+        wall.cover_points(fluid_x, 3.0 * radius);
         let dom = self.domain;
         out.extend(self.positions(whole));
         let wall = whole.straight();

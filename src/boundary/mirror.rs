@@ -167,7 +167,6 @@ impl MirrorWall {
             mirrors: Mirrors::default(),
         }
     }
-
 }
 
 impl Boundary for MirrorWall {
@@ -372,6 +371,57 @@ mod tests {
             .iter()
             .zip(&um)
             .all(|(&i, v)| (v + u[i as usize]).norm() < 1e-15));
+    }
+
+    /// Across a circle (a cylinder and a circular tank), mirrors are reflected across the local
+    /// tangent: the circle bisects a parent and its mirror at the closest point, and the mirror
+    /// of any velocity is no slip there (the mean of parent and mirror is the wall's velocity,
+    /// here at rest).
+    #[test]
+    fn mirrors_across_a_circle_are_no_slip_at_the_closest_point() {
+        use crate::geometry::Ball;
+        for ball in [
+            Ball::obstacle(Vec2::new(0.01, 0.02), 0.1),
+            Ball::container(Vec2::new(0.01, 0.02), 0.25),
+        ] {
+            let mut wall = Wall::from(ball);
+            let x: Vec<Vec2> = (0..400)
+                .map(|k| {
+                    let a = 0.7 * k as f64;
+                    let r = 0.05 + 0.25 * (k as f64 / 400.0);
+                    Vec2::new(0.01, 0.02) + r * Vec2::new(a.cos(), a.sin())
+                })
+                .collect();
+            let mut model = MirrorWall::new(0.03);
+            let grid = CellGrid::build(&x, 0.03, &crate::neighbors::Domain::OPEN);
+            let mut out = Vec::new();
+            model.place(&mut wall, &x, &grid, 0.03, &mut out);
+            assert!(!out.is_empty());
+            let fluid = Fluid {
+                mass: 1.0,
+                v: x.iter().map(|p| Vec2::new(0.3 - p.y, 2.0 * p.x)).collect(),
+                x: x.clone(),
+                ..Default::default()
+            };
+            let mut v = vec![Vec2::zeros(); out.len()];
+            model.fill_velocities(&wall, &fluid, &mut v);
+            for (k, &i) in model.parents().iter().enumerate() {
+                let (xi, xm) = (x[i as usize], out[k]);
+                let d = ball.signed_distance(&xi);
+                assert!(d > 0.0 && d < 0.03);
+                assert!((0.5 * (xi + xm) - ball.closest_point(&xi)).norm() < 1e-15);
+                assert!((ball.signed_distance(&xm) + d).abs() < 1e-15);
+                assert!((0.5 * (fluid.v[i as usize] + v[k])).norm() < 1e-15);
+            }
+            let within = x
+                .iter()
+                .filter(|p| {
+                    let d = ball.signed_distance(p);
+                    d > 0.0 && d < 0.03
+                })
+                .count();
+            assert_eq!(model.parents().len(), within);
+        }
     }
 
     /// Through the [`Boundary`] trait, as the incompressible scheme sees it: the parents are

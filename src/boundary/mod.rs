@@ -24,16 +24,74 @@
 //! scheme then links a virtual pressure to its parent's (Neumann, plus the hydrostatic offset)
 //! and a virtual velocity as no slip, `2 u_wall - u_parent`, without knowing the model's type.
 
+pub mod dummy;
 pub mod ghost;
 pub mod mirror;
 pub mod plate;
 pub mod wall;
 pub mod wall_profile;
 
+use crate::config::WallBoundary;
+use crate::geometry::Shape;
 use crate::neighbors::CellGrid;
 use crate::particles::Fluid;
 use crate::{Mat2, Vec2};
 use wall::Wall;
+
+/// The wall models, as `wall_boundary` names them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Model {
+    /// Fang 2006's boundary + image particles ([`ghost::WallModel::Fang`]).
+    Image,
+    /// Ren 2015's wall + ghost particles ([`ghost::WallModel::Ren`]).
+    Ghost,
+    /// Adami, Hu & Adams 2012's dummy particles ([`dummy::DummyWall`]).
+    Dummy,
+    /// King & Lind 2021's mirror particles ([`mirror::MirrorWall`]).
+    Mirror,
+}
+
+/// The model `choice` means for `wall` under a scheme whose own (paper's) straight-wall model
+/// is `paper` (the incompressible scheme's is [`Model::Mirror`]): `auto` is `paper` on a
+/// straight wall and dummy or mirror particles on a curved one. A model the scheme cannot take
+/// (the incompressible scheme links every virtual particle to one fluid parent: mirrors only;
+/// the weakly compressible schemes read the virtual particles' total stress, which mirrors do
+/// not carry) or the shape does not fit (image and ghost particles are built along a straight
+/// wall) is refused, naming the parameter.
+pub fn resolve(choice: WallBoundary, paper: Model, wall: &Wall) -> Result<Model, String> {
+    let incompressible = paper == Model::Mirror;
+    let model = match choice {
+        WallBoundary::Auto if wall.is_straight() => paper,
+        WallBoundary::Auto if incompressible => Model::Mirror,
+        WallBoundary::Auto => Model::Dummy,
+        WallBoundary::Image => Model::Image,
+        WallBoundary::Ghost => Model::Ghost,
+        WallBoundary::Dummy => Model::Dummy,
+        WallBoundary::Mirror => Model::Mirror,
+    };
+    let name = format!("wall_boundary = {}", choice.as_str());
+    if incompressible != (model == Model::Mirror) {
+        return Err(format!(
+            "{name}: {} takes {}",
+            if incompressible {
+                "the incompressible scheme (isph)"
+            } else {
+                "a weakly compressible scheme (wcsph, pdri)"
+            },
+            if incompressible {
+                "mirror particles only (or auto)"
+            } else {
+                "image, ghost or dummy particles (or auto)"
+            }
+        ));
+    }
+    if matches!(model, Model::Image | Model::Ghost) && !wall.is_straight() {
+        return Err(format!(
+            "{name}: image and ghost particles are built along a straight wall, and this scene              has a curved one (use dummy or auto)"
+        ));
+    }
+    Ok(model)
+}
 
 /// A wall model acting on the fluid through virtual particles.
 pub trait Boundary: Send + Sync {
@@ -87,5 +145,52 @@ pub trait Boundary: Send + Sync {
             wall.wall_velocity(),
             self.parents().len(),
         ));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Ball;
+    use crate::Vec2;
+
+    /// `auto` is the paper's model on a straight wall and dummy or mirror particles on a curved
+    /// one; a model the scheme or shape cannot take is refused, naming the parameter.
+    #[test]
+    fn wall_boundary_resolves_per_scheme_and_shape() {
+        let straight = Wall::from(plate::Plate::new(0.0, 0.01));
+        let circle = Wall::from(Ball::obstacle(Vec2::zeros(), 0.1));
+        let auto = WallBoundary::Auto;
+        for paper in [Model::Image, Model::Ghost, Model::Mirror] {
+            assert_eq!(resolve(auto, paper, &straight), Ok(paper));
+        }
+        assert_eq!(resolve(auto, Model::Image, &circle), Ok(Model::Dummy));
+        assert_eq!(resolve(auto, Model::Ghost, &circle), Ok(Model::Dummy));
+        assert_eq!(resolve(auto, Model::Mirror, &circle), Ok(Model::Mirror));
+        // Any weakly compressible model on a straight wall, under either weakly compressible
+        // scheme.
+        for (choice, model) in [
+            (WallBoundary::Image, Model::Image),
+            (WallBoundary::Ghost, Model::Ghost),
+            (WallBoundary::Dummy, Model::Dummy),
+        ] {
+            assert_eq!(resolve(choice, Model::Ghost, &straight), Ok(model));
+            let e = resolve(choice, Model::Mirror, &straight).unwrap_err();
+            assert!(e.contains("wall_boundary") && e.contains("mirror"), "{e}");
+        }
+        assert_eq!(
+            resolve(WallBoundary::Dummy, Model::Image, &circle),
+            Ok(Model::Dummy)
+        );
+        for choice in [WallBoundary::Image, WallBoundary::Ghost] {
+            let e = resolve(choice, Model::Image, &circle).unwrap_err();
+            assert!(e.contains("wall_boundary") && e.contains("straight"), "{e}");
+        }
+        let e = resolve(WallBoundary::Mirror, Model::Image, &straight).unwrap_err();
+        assert!(e.contains("wall_boundary = mirror"), "{e}");
+        assert_eq!(
+            resolve(WallBoundary::Mirror, Model::Mirror, &circle),
+            Ok(Model::Mirror)
+        );
     }
 }

@@ -195,6 +195,20 @@ impl Plate {
         changed
     }
 
+    /// Grow the column range to cover the points `x` with `margin` to spare at both ends
+    /// (nothing without points).
+    pub fn cover_points(&mut self, x: &[Vec2], margin: f64) {
+        let (lo, hi) = x
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                let s = self.s(p);
+                (lo.min(s), hi.max(s))
+            });
+        if lo.is_finite() {
+            self.cover(lo - margin, hi + margin);
+        }
+    }
+
     /// s of column c (0-based within the built range).
     #[inline]
     pub fn column_s(&self, c: usize) -> f64 {

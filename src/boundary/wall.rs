@@ -71,7 +71,7 @@ impl Wall {
             .expect("a straight-wall model on a curved wall (refused by validation)")
     }
 
-    /// Distance moved since t = 0 (along -n for a plate; circles are fixed) [m].
+    /// Distance moved since t = 0 (along -n for a plate; circles are fixed) \[m\].
     #[inline]
     pub fn displacement(&self) -> f64 {
         self.plate().map_or(0.0, |p| p.displacement)

@@ -141,11 +141,7 @@ impl Scene for Channel {
     /// the physical one at Fang's alpha = 1 and c = 12.5 m/s (measured: the Newtonian centre
     /// line at 0.80 U).
     fn effective_config(&self, cfg: &SceneConfig) -> SceneConfig {
-        let mut e = cfg.clone();
-        e.fluid.gravity = 0.0;
-        e.numerics.artificial_viscosity_alpha = 0.0;
-        e.numerics.artificial_viscosity_beta = 0.0;
-        e
+        body_force_driven(cfg)
     }
 
     /// Closed by its walls and periodic along the flow.
@@ -220,7 +216,6 @@ impl Scene for Channel {
     /// walls carry the force) and the channel's own three. The volume error is sum(m / rho)'s
     /// under every scheme: the closed channel keeps it.
     fn outputs(&self, st: &State, cfg: &SceneConfig) -> Outputs {
-        let full = SharedOutputs::compute(st, cfg.dx(), cfg.fluid.density);
         let fl = &st.fluid;
         let (h, l, dx) = (cfg.channel.channel_width, period(cfg), cfg.dx());
         let flow: f64 =
@@ -230,16 +225,7 @@ impl Scene for Channel {
                 .sum::<f64>()
                 / l;
         Outputs {
-            shared: SharedOutputs {
-                kinetic_energy: full.kinetic_energy,
-                volume_error: full.volume_error,
-                max_conformation_trace: full.max_conformation_trace,
-                min_conformation_det: full.min_conformation_det,
-                time_step: full.time_step,
-                particle_count: full.particle_count,
-                void_fraction: full.void_fraction,
-                ..Default::default()
-            },
+            shared: health_outputs(st, cfg),
             channel: ChannelOutputs {
                 centreline_velocity: centreline_velocity(fl, h, dx),
                 flow_rate: flow,
@@ -306,6 +292,33 @@ impl Scene for Channel {
             cfg.scheme,
             cfg.numerics.particles_per_diameter
         )
+    }
+}
+
+/// A closed cell driven by a body force (the channel, the cylinder array): gravity off, and so
+/// is Monaghan's artificial viscosity (see [`Channel`]'s `effective_config`).
+pub fn body_force_driven(cfg: &SceneConfig) -> SceneConfig {
+    let mut e = cfg.clone();
+    e.fluid.gravity = 0.0;
+    e.numerics.artificial_viscosity_alpha = 0.0;
+    e.numerics.artificial_viscosity_beta = 0.0;
+    e
+}
+
+/// The health figures of the shared outputs only (a closed cell has no drop extents, and no
+/// one plate carries its force): kinetic energy, volume error (sum(m / rho)'s under every
+/// scheme: a closed cell keeps it), conformation extremes, time step, particle count, voids.
+pub fn health_outputs(st: &State, cfg: &SceneConfig) -> SharedOutputs {
+    let full = SharedOutputs::compute(st, cfg.dx(), cfg.fluid.density);
+    SharedOutputs {
+        kinetic_energy: full.kinetic_energy,
+        volume_error: full.volume_error,
+        max_conformation_trace: full.max_conformation_trace,
+        min_conformation_det: full.min_conformation_det,
+        time_step: full.time_step,
+        particle_count: full.particle_count,
+        void_fraction: full.void_fraction,
+        ..Default::default()
     }
 }
 

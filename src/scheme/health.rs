@@ -7,12 +7,13 @@
 use super::params::Params;
 use crate::boundary::plate::Plate;
 use crate::boundary::wall::Wall;
-use crate::geometry::Shape;
 use crate::config::ArtificialStressKind;
 use crate::eos::Eos;
+use crate::geometry::{Shape, Side};
 use crate::particles::Fluid;
 use crate::rheology::Rheology;
 use crate::state::State;
+use crate::Vec2;
 use rayon::prelude::*;
 
 /// A particle this far below a plate (in particle spacings) has gone through it.
@@ -34,7 +35,7 @@ pub fn check_health<R: Rheology>(p: &Params, st: &State) -> Result<f64, String> 
         R::ELASTIC,
         Some(&p.eos),
     )?;
-    let voids = fluid_void_fraction(fl, st.plate(), p.dx);
+    let voids = fluid_void_fraction(fl, st.plate(), &st.walls, p.dx);
     if p.fracture_void_fraction > 0.0 && voids > p.fracture_void_fraction {
         let knob = match p.art_kind {
             ArtificialStressKind::Fang => "artificial_stress_epsilon",
@@ -118,11 +119,31 @@ pub fn check_particles(
 }
 
 /// Void fraction of the fluid (see [`crate::health`]) on cells of two particle spacings, in the
-/// plate's frame when there is a plate.
-pub fn fluid_void_fraction(fl: &Fluid, plate: Option<&Plate>, dx: f64) -> f64 {
+/// plate's frame when there is a plate. A solid the fluid flows around (a cylinder of `walls`)
+/// is not a hole: its disc and the spacing around it count as filled.
+pub fn fluid_void_fraction(fl: &Fluid, plate: Option<&Plate>, walls: &[Wall], dx: f64) -> f64 {
+    let mut x = std::borrow::Cow::Borrowed(&fl.x);
+    for w in walls {
+        if let Wall::Circle(c) = w {
+            if c.ball.fluid == Side::Outside {
+                let (o, r) = (c.ball.centre, c.ball.radius);
+                let k = (r / dx).ceil() as i64;
+                for j in -k..=k {
+                    for i in -k..=k {
+                        let p = o + Vec2::new(i as f64, j as f64) * dx;
+                        // The solid and the spacing next to it that the wall's virtual
+                        // particles own.
+                        if w.signed_distance(&p) < dx {
+                            x.to_mut().push(p);
+                        }
+                    }
+                }
+            }
+        }
+    }
     let pts: Vec<(f64, f64)> = match plate {
-        Some(pl) => fl.x.iter().map(|x| (pl.s(x), pl.d(x))).collect(),
-        None => fl.x.iter().map(|x| (x.x, x.y)).collect(),
+        Some(pl) => x.iter().map(|x| (pl.s(x), pl.d(x))).collect(),
+        None => x.iter().map(|x| (x.x, x.y)).collect(),
     };
     crate::health::void_fraction(&pts, 2.0 * dx, plate.is_some())
 }

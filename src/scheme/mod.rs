@@ -55,6 +55,18 @@ impl SchemeKind {
         }
     }
 
+    /// The wall model of the scheme's paper on straight walls, what `wall_boundary = auto`
+    /// means there (Fang 2006's image particles, Ren 2015's ghost particles, King & Lind 2021's
+    /// mirror particles).
+    pub fn paper_wall_model(self) -> crate::boundary::Model {
+        use crate::boundary::Model;
+        match self {
+            SchemeKind::Wcsph => Model::Image,
+            SchemeKind::Pdri => Model::Ghost,
+            SchemeKind::Isph => Model::Mirror,
+        }
+    }
+
     /// Whether the scheme is incompressible (a pressure Poisson equation, no equation of state
     /// or sound speed; every particle keeps its volume m / rho0).
     pub fn is_incompressible(self) -> bool {

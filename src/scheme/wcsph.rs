@@ -80,11 +80,15 @@ impl<K: Kernel, R: Rheology> Scheme for Wcsph<K, R> {
         c.update(&mut self.next, &st.fluid, &self.half.v, &self.half.conf, dt);
         std::mem::swap(&mut st.fluid, &mut self.next);
         let mut contact = Vec2::zeros();
-        for wall in &st.walls {
+        let mut per_wall = c.wall_on_fluid_per_wall(r1.wall_on_fluid, st.fluid.mass);
+        for (wall, on_fluid) in st.walls.iter().zip(per_wall.iter_mut()) {
             let (m, reflections) = keep_out_of_wall(&mut st.fluid, wall);
             contact += m;
             st.wall_reflections += reflections;
+            // The force of the fluid on this wall alone.
+            *on_fluid = -*on_fluid - m / dt;
         }
+        st.book_wall_forces(per_wall, dt);
         // Force of the fluid on the plate is minus the force of the wall particles on the fluid
         // (and minus the contact momentum over the step); integrating it with the corrector's
         // own rates makes the momentum balance exact.

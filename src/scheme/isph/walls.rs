@@ -276,7 +276,9 @@ mod tests {
             let i = i as usize;
             // The mirror is the parent reflected across the plate.
             let (xm, xi) = (all_x[xs.len() + m], xs[i]);
-            assert!((plates[0].signed_distance(&xm) + plates[0].signed_distance(&xi)).abs() < 1e-15);
+            assert!(
+                (plates[0].signed_distance(&xm) + plates[0].signed_distance(&xi)).abs() < 1e-15
+            );
             let mean = 0.5 * (ext[xs.len() + m] - curv[m] + u[i]);
             assert!((mean - uw).norm() < 1e-12);
         }
