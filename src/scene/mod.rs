@@ -380,6 +380,7 @@ scenes! {
     Jet => jet::Jet,
     Channel => channel::Channel,
     EllipticalDrop => elliptical_drop::EllipticalDrop,
+    CylinderArray => cylinder_array::CylinderArray,
 }
 
 /// The row of the `scene` parameter.
