@@ -14,6 +14,7 @@ pub mod diagnostics;
 pub mod dim;
 pub mod eos;
 pub mod fmi2;
+pub mod geometry;
 pub mod health;
 pub mod kernel;
 pub mod neighbors;

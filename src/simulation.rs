@@ -15,6 +15,7 @@
 //! shortened), so that an input set at a communication point acts from exactly that time; if the
 //! solver had already stepped past it, it goes back to the state before that step first.
 
+use crate::boundary::plate::Motion;
 use crate::config::ConfigError;
 use crate::diagnostics::pressure_roughness;
 use crate::kernel::CubicSpline;
@@ -97,12 +98,28 @@ fn check_inputs(scene: &dyn Scene, cfg: &SceneConfig) -> Result<(), ConfigError>
     Ok(())
 }
 
-/// Put the inputs of `cfg` in force in `st`: the plate (the first wall) moves at
+/// Put the inputs of `cfg` in force in `st`: a plate whose motion is the input moves at
 /// `plate_velocity`; the scene reads its own inputs from the configuration.
 fn apply_plate_input(cfg: &SceneConfig, st: &mut State) {
-    if let Some(plate) = st.walls.first_mut() {
-        plate.velocity = cfg.plate.plate_velocity;
+    if let Some(plate) = st.plate_mut() {
+        if plate.motion == Motion::Input {
+            plate.velocity = cfg.plate.plate_velocity;
+        }
     }
+}
+
+/// Whether every wall of the initial state takes the wall model `wall_boundary` asks for under
+/// `scheme` ([`crate::boundary::resolve`]).
+fn check_wall_models(
+    scheme: crate::scheme::SchemeKind,
+    choice: crate::config::WallBoundary,
+    st: &State,
+) -> Result<(), ConfigError> {
+    let paper = scheme.paper_wall_model();
+    for w in &st.walls {
+        crate::boundary::resolve(choice, paper, w).map_err(ConfigError::Inconsistent)?;
+    }
+    Ok(())
 }
 
 fn thread_pool(cfg: &SceneConfig) -> Result<Arc<rayon::ThreadPool>, SimError> {
@@ -145,6 +162,7 @@ impl Simulation {
         let mut state = scene.initial_state(&eff, rest);
         apply_plate_input(&eff, &mut state);
         let params = eff.scheme_params();
+        check_wall_models(eff.scheme, params.wall_boundary, &state)?;
         let scheme = crate::scheme::build(
             eff.scheme,
             &eff.fluid,
@@ -238,6 +256,30 @@ impl Simulation {
         Ok(())
     }
 
+    /// Give wall `wall` (an index into `state().walls`) the motion `motion` from the
+    /// communication time on; a prescribed motion takes its velocity at that time. The input
+    /// `plate_velocity` then moves the wall only if `motion` is [`Motion::Input`] and the wall
+    /// is the scene's plate.
+    pub fn set_wall_motion(&mut self, wall: usize, motion: Motion) -> Result<(), SimError> {
+        let n = self.state.walls.len();
+        let t = self.t_comm;
+        let w = self
+            .state
+            .walls
+            .get_mut(wall)
+            .ok_or_else(|| SimError::Request(format!("no wall {wall} (this scene has {n} walls)")))?
+            .plate_mut()
+            .ok_or_else(|| {
+                SimError::Request(format!("wall {wall} is not straight: it is fixed"))
+            })?;
+        w.motion = motion;
+        if let Motion::Prescribed(p) = motion {
+            w.velocity = p.at(t);
+        }
+        apply_plate_input(&self.eff, &mut self.state);
+        Ok(())
+    }
+
     /// Advance to `t_end`. On a breakdown the state is left at the last good step and the error
     /// names the time, the step and the cause.
     pub fn advance_to(&mut self, t_end: f64) -> Result<(), SimError> {
@@ -284,13 +326,9 @@ impl Simulation {
                     } else {
                         self.state.time + dt
                     };
+                    let t = self.state.time;
                     for wall in &mut self.state.walls {
-                        // A rigid motion along -n at the input's velocity, constant over the step.
-                        let ds = wall.velocity * dt;
-                        if ds != 0.0 {
-                            wall.displacement += ds;
-                            wall.origin -= wall.n * ds;
-                        }
+                        wall.advance(t, dt);
                     }
                     last_before = Some(before);
                 }

@@ -2,6 +2,7 @@
 //! saved state restores in another process (FMI get/set/serialize FMU state).
 
 use crate::boundary::plate::Plate;
+use crate::boundary::wall::Wall;
 use crate::particles::Fluid;
 use crate::Vec2;
 use serde::de::DeserializeOwned;
@@ -59,13 +60,27 @@ pub struct State {
     pub time: f64,
     pub step: u64,
     pub fluid: Fluid,
-    /// The rigid walls: the drop's plate (none for the elliptical drop). The first wall's
-    /// velocity is the input `plate_velocity` in force.
-    pub walls: Vec<Plate>,
+    /// The rigid walls (none for the elliptical drop), each with its own motion
+    /// ([`crate::boundary::plate::Motion`]).
+    pub walls: Vec<Wall>,
+    /// Which of `walls` is "the plate" the shared outputs refer to (its frame, displacement
+    /// and force; see [`crate::scene::Scene::plate_wall`]), if any.
+    #[serde(default)]
+    pub plate: Option<usize>,
     /// Force of the fluid on the walls at the last step's corrector stage [N/m], global frame.
     pub wall_force: Vec2,
     /// Time integral of that force since t = 0 [N s/m], global frame.
     pub wall_impulse: Vec2,
+    /// The force of the fluid on each wall alone (in the order of `walls`) at the last step,
+    /// measured as `wall_force` is \[N/m\]: the cylinder's drag and lift apart from the channel
+    /// walls' shear. Empty when the scheme does not split it (the incompressible scheme with
+    /// more than one wall: its implicit steps move momentum between fluid and all walls at
+    /// once).
+    #[serde(default)]
+    pub wall_forces: Vec<Vec2>,
+    /// Time integral of each wall's force since t = 0 \[N s/m\] (as `wall_forces`).
+    #[serde(default)]
+    pub wall_impulses: Vec<Vec2>,
     /// Stable time step at the last step \[s\] (the step actually taken may be shorter, to land
     /// on a communication point).
     pub last_dt: f64,
@@ -94,15 +109,19 @@ pub struct State {
 }
 
 impl State {
-    /// The initial state of a fluid and its walls.
-    pub fn new(fluid: Fluid, walls: Vec<Plate>) -> Self {
+    /// The initial state of a fluid and its walls, `plate` naming the plate among them.
+    pub fn new(fluid: Fluid, walls: Vec<Wall>, plate: Option<usize>) -> Self {
+        debug_assert!(plate.is_none_or(|k| k < walls.len()));
         Self {
             time: 0.0,
             step: 0,
             fluid,
             walls,
+            plate,
             wall_force: Vec2::zeros(),
             wall_impulse: Vec2::zeros(),
+            wall_forces: Vec::new(),
+            wall_impulses: Vec::new(),
             last_dt: 0.0,
             void_fraction: 0.0,
             wall_reflections: 0,
@@ -114,8 +133,29 @@ impl State {
         }
     }
 
-    /// The plate (the first wall), if there is one.
+    /// The wall the scene named its plate, if any (a straight wall).
     pub fn plate(&self) -> Option<&Plate> {
-        self.walls.first()
+        self.plate
+            .and_then(|k| self.walls.get(k))
+            .and_then(Wall::plate)
+    }
+
+    /// Book each wall's force at the last step, `forces` [N/m] over the step `dt` (one per
+    /// wall; empty: not split).
+    pub fn book_wall_forces(&mut self, forces: Vec<Vec2>, dt: f64) {
+        if self.wall_impulses.len() != forces.len() {
+            self.wall_impulses = vec![Vec2::zeros(); forces.len()];
+        }
+        for (i, f) in self.wall_impulses.iter_mut().zip(&forces) {
+            *i += f * dt;
+        }
+        self.wall_forces = forces;
+    }
+
+    /// The plate, mutably.
+    pub fn plate_mut(&mut self) -> Option<&mut Plate> {
+        self.plate
+            .and_then(|k| self.walls.get_mut(k))
+            .and_then(Wall::plate_mut)
     }
 }

@@ -15,6 +15,7 @@ mod common;
 
 use common::{i, r, s};
 use std::fmt::Write;
+use viscosph::boundary::plate::{Motion, Prescribed};
 use viscosph::config::Value;
 use viscosph::scene::SceneConfig;
 use viscosph::simulation::Simulation;
@@ -349,11 +350,17 @@ fn fnv(words: impl IntoIterator<Item = u64>) -> u64 {
 }
 
 fn trajectory(case: &Case) -> String {
+    trajectory_of(case, |_| {})
+}
+
+/// The trajectory of `case` with `prepare` applied to the simulation before its first step.
+fn trajectory_of(case: &Case, prepare: impl FnOnce(&mut Simulation)) -> String {
     let mut cfg = SceneConfig::default();
     for (k, v) in case.settings {
         cfg.set(k, value(*v)).unwrap();
     }
     let mut sim = Simulation::new(cfg).unwrap();
+    prepare(&mut sim);
     let mut text = String::new();
     let dt = case.t_end / case.records as f64;
     for k in 0..=case.records {
@@ -407,4 +414,38 @@ fn golden_trajectories_are_bitwise_unchanged() {
         }
     }
     assert!(failed.is_empty(), "trajectories changed: {failed:?}");
+}
+
+/// A wall owns its motion: the drop's plate moved by a prescribed constant velocity instead of
+/// the input `plate_velocity` follows the input-driven goldens bit for bit.
+#[test]
+fn prescribed_plate_motion_follows_the_input_driven_goldens() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden");
+    for name in ["wcsph_drop_plate_moving_in", "isph_drop_plate_moving_out"] {
+        let case = CASES.iter().find(|c| c.name == name).unwrap();
+        let v = case
+            .settings
+            .iter()
+            .find_map(|(k, v)| match (k, v) {
+                (&"plate_velocity", Setting::R(v)) => Some(*v),
+                _ => None,
+            })
+            .unwrap();
+        let settings: Vec<_> = case
+            .settings
+            .iter()
+            .filter(|(k, _)| *k != "plate_velocity")
+            .copied()
+            .collect();
+        let still = Case {
+            settings: Box::leak(settings.into_boxed_slice()),
+            ..*case
+        };
+        let got = trajectory_of(&still, |sim| {
+            sim.set_wall_motion(0, Motion::Prescribed(Prescribed::constant(v)))
+                .unwrap()
+        });
+        let want = std::fs::read_to_string(dir.join(format!("{name}.txt"))).unwrap();
+        assert_eq!(got, want, "{name}");
+    }
 }

@@ -420,7 +420,7 @@ fn sheet_decay_rate(dt: f64, t0: f64, t1: f64) -> f64 {
     p.dx = dx;
     p.eos.rho0 = rho;
     let mut scheme = Isph::new(Newtonian::new(eta), p, &c.numerics, &[]);
-    let mut st = State::new(fl, Vec::new());
+    let mut st = State::new(fl, Vec::new(), None);
     let amplitude = |st: &State| {
         let n = st.fluid.len() as f64;
         st.fluid
@@ -481,14 +481,14 @@ fn a_blown_up_flow_stops_with_a_breakdown() {
     p.domain = Domain::periodic_x(nx as f64 * dx);
     p.dx = dx;
     p.eos.rho0 = rho;
-    let mut healthy = State::new(fl.clone(), Vec::new());
+    let mut healthy = State::new(fl.clone(), Vec::new(), None);
     let mut scheme = Isph::new(Newtonian::new(eta), p, &c.numerics, &[]);
     let h = scheme
         .step(&mut healthy, 1e-4)
         .expect("a sheet at rest steps");
     assert!(h > 0.0);
     fl.v[205] = Vec2::new(1e9, 0.0);
-    let mut blown = State::new(fl, Vec::new());
+    let mut blown = State::new(fl, Vec::new(), None);
     let e = scheme
         .step(&mut blown, 1e-4)
         .expect_err("a blown-up flow must stop");

@@ -12,8 +12,8 @@ use viscosph::config::{
 };
 use viscosph::diagnostics::{OutputGroup, OutputSpec, SharedOutputs};
 use viscosph::scene::{
-    channel::Channel, drop::Drop, elliptical_drop::EllipticalDrop, jet::Jet, name_variables, Scene,
-    SceneConfig, SceneKind, SceneType, OUTPUTS, PARAMS, SCENES,
+    channel::Channel, cylinder_array::CylinderArray, drop::Drop, elliptical_drop::EllipticalDrop,
+    jet::Jet, name_variables, Scene, SceneConfig, SceneKind, SceneType, OUTPUTS, PARAMS, SCENES,
 };
 
 /// What the manual says about one scene: its registry entry and its own groups.
@@ -44,6 +44,7 @@ fn scenes() -> Result<Vec<SceneTables>, String> {
         scene_tables::<Jet>(),
         scene_tables::<Channel>(),
         scene_tables::<EllipticalDrop>(),
+        scene_tables::<CylinderArray>(),
     ];
     let ours: Vec<&str> = list.iter().map(|s| s.name).collect();
     let registry: Vec<&str> = SCENES.iter().map(|(n, _)| *n).collect();

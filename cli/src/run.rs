@@ -231,11 +231,13 @@ fn snapshot(sim: &Simulation) -> plot::Snapshot {
     let eff = sim.effective_config();
     plot::Snapshot {
         title: sim.scene().time_label(eff, sim.time()),
-        // Every wall surface (the drop's plate, both channel walls), from the state's plates.
+        // Every straight wall surface (the drop's plate, both channel walls), from the state's
+        // walls; a curved wall shows through its virtual particles only.
         plates: sim
             .state()
             .walls
             .iter()
+            .filter_map(|w| w.plate())
             .map(|w| {
                 let o = w.point(0.0, 0.0);
                 plot::PlateLine {

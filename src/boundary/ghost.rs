@@ -10,8 +10,9 @@
 //! The number of image rows covers the kernel's support (three for the cubic spline at
 //! h = 1.5 dx, as in both papers).
 
-use super::plate::Plate;
+use super::wall::Wall;
 use super::Boundary;
+use crate::geometry::Shape;
 use crate::kernel::Kernel;
 use crate::neighbors::{CellGrid, Domain, NeighborList};
 use crate::particles::Fluid;
@@ -128,23 +129,18 @@ impl<K: Kernel> GhostWall<K> {
 impl<K: Kernel> Boundary for GhostWall<K> {
     fn place(
         &mut self,
-        wall: &mut Plate,
+        wall: &mut Wall,
         fluid_x: &[Vec2],
         fluid_grid: &CellGrid,
         radius: f64,
         out: &mut Vec<Vec2>,
     ) {
-        let (lo, hi) = fluid_x
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
-                let s = wall.s(p);
-                (lo.min(s), hi.max(s))
-            });
-        if lo.is_finite() {
-            wall.cover(lo - 3.0 * radius, hi + 3.0 * radius);
-        }
+        let whole = wall;
+        let wall = whole.straight_mut();
+        wall.cover_points(fluid_x, 3.0 * radius);
         let dom = self.domain;
-        out.extend(self.positions(wall));
+        out.extend(self.positions(whole));
+        let wall = whole.straight();
         let mut queries = Vec::with_capacity(2 * wall.columns());
         for c in 0..wall.columns() {
             queries.push(dom.wrap(wall.point(wall.column_s(c), 0.0)));
@@ -153,7 +149,8 @@ impl<K: Kernel> Boundary for GhostWall<K> {
         self.clist = NeighborList::build(fluid_grid, fluid_x, &queries, radius, &self.domain);
     }
 
-    fn fill_velocities(&self, wall: &Plate, fluid: &Fluid, out: &mut [Vec2]) {
+    fn fill_velocities(&self, wall: &Wall, fluid: &Fluid, out: &mut [Vec2]) {
+        let wall = wall.straight();
         let clist = &self.clist;
         let vw = wall.wall_velocity();
         out.par_chunks_mut(self.per_column)
@@ -173,12 +170,13 @@ impl<K: Kernel> Boundary for GhostWall<K> {
 
     fn fill_stresses(
         &self,
-        wall: &Plate,
+        wall: &Wall,
         fluid: &Fluid,
         sigma: &[Mat2],
         tau_p: &[Mat2],
         out: &mut [Mat2],
     ) {
+        let wall = wall.straight();
         let n = wall.n;
         let nn = n * n.transpose();
         let elastic = !tau_p.is_empty();
@@ -212,7 +210,8 @@ impl<K: Kernel> Boundary for GhostWall<K> {
     }
 
     /// Inside the periodic box, if the domain has one.
-    fn positions(&self, wall: &Plate) -> Vec<Vec2> {
+    fn positions(&self, wall: &Wall) -> Vec<Vec2> {
+        let wall = wall.straight();
         let mut x = wall.virtual_positions(self.per_column);
         if self.domain.period_x.is_some() {
             x.iter_mut().for_each(|p| *p = self.domain.wrap(*p));
@@ -221,24 +220,26 @@ impl<K: Kernel> Boundary for GhostWall<K> {
     }
 }
 
-/// The plate's impenetrability, kinematically: a fluid particle found below the plate line
-/// (d < 0) is mirrored back above it, and the part of its velocity (relative to the plate) that
-/// runs into the plate is removed (an inelastic contact). Returns the momentum the plate gave the
-/// fluid this way \[kg m/s per m\] and the number of particles put back. Sequential, in particle
-/// order, so the sum is the same on any number of threads. Used by Fang's scheme (see
-/// [`crate::scheme::wcsph`]).
-pub fn keep_above_plate(fl: &mut Fluid, wall: &Plate) -> (Vec2, u64) {
+/// A wall's impenetrability, kinematically: a fluid particle found inside the solid (signed
+/// distance d < 0) is mirrored back across the wall's local tangent (for a plate, across the
+/// plate line), and the part of its velocity (relative to the wall) that runs into the wall
+/// along the normal there is removed (an inelastic contact). Returns the momentum the wall gave
+/// the fluid this way \[kg m/s per m\] and the number of particles put back. Sequential, in
+/// particle order, so the sum is the same on any number of threads. Used by Fang's scheme (see
+/// [`crate::scheme::wcsph`]) and the incompressible one.
+pub fn keep_out_of_wall(fl: &mut Fluid, wall: &Wall) -> (Vec2, u64) {
     let mut momentum = Vec2::zeros();
     let mut count = 0;
-    let vw = wall.wall_velocity().dot(&wall.n);
+    let uw = wall.wall_velocity();
     for (x, v) in fl.x.iter_mut().zip(fl.v.iter_mut()) {
-        let d = wall.d(x);
+        let d = wall.signed_distance(x);
         if d < 0.0 {
-            *x -= wall.n * (2.0 * d);
-            let vn = v.dot(&wall.n) - vw;
+            let n = wall.normal(x);
+            *x = wall.reflect(x);
+            let vn = v.dot(&n) - uw.dot(&n);
             if vn < 0.0 {
-                *v -= wall.n * vn;
-                momentum -= wall.n * (vn * fl.mass);
+                *v -= n * vn;
+                momentum -= n * (vn * fl.mass);
             }
             count += 1;
         }
@@ -249,6 +250,7 @@ pub fn keep_above_plate(fl: &mut Fluid, wall: &Plate) -> (Vec2, u64) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::boundary::plate::Plate;
 
     #[test]
     fn particles_below_the_plate_are_mirrored_and_stopped() {
@@ -267,7 +269,7 @@ mod tests {
             ..Default::default()
         };
         let before = fl.clone();
-        let (momentum, count) = keep_above_plate(&mut fl, &pl);
+        let (momentum, count) = keep_out_of_wall(&mut fl, &Wall::from(pl.clone()));
         assert_eq!(count, 2);
         assert_eq!((fl.x[0], fl.v[0]), (before.x[0], before.v[0]));
         assert!((pl.d(&fl.x[1]) - 0.003).abs() < 1e-15 && (pl.s(&fl.x[1]) - 0.01).abs() < 1e-15);

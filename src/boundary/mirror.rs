@@ -19,7 +19,9 @@
 //! [`MirrorPlate::reflect`]) is the scheme's job.
 
 use super::plate::Plate;
+use super::wall::Wall;
 use super::Boundary;
+use crate::geometry::{HalfPlane, Shape};
 use crate::neighbors::CellGrid;
 use crate::particles::Fluid;
 use crate::{Mat2, Vec2};
@@ -91,16 +93,22 @@ impl MirrorPlate {
         )
     }
 
+    /// The solid's shape: the half-plane below the plate line.
+    #[inline]
+    pub fn shape(&self) -> HalfPlane<2> {
+        HalfPlane::new(self.origin, self.n)
+    }
+
     /// Signed distance from the plate, positive on the fluid side.
     #[inline]
     pub fn distance(&self, x: &Vec2) -> f64 {
-        (x - self.origin).dot(&self.n)
+        self.shape().signed_distance(x)
     }
 
     /// Mirror image of a point across the plate.
     #[inline]
     pub fn reflect(&self, x: &Vec2) -> Vec2 {
-        x - 2.0 * self.distance(x) * self.n
+        self.shape().reflect(x)
     }
 
     /// No-slip mirror velocity, `2 u_wall - u`.
@@ -139,10 +147,11 @@ impl MirrorPlate {
     }
 }
 
-/// The mirror-particle wall model of one plate as a [`Boundary`]: [`Boundary::place`] builds a
-/// mirror for every fluid particle within `reach` of the plate (in ascending particle order),
-/// the fill steps give them the no-slip velocity and the [`StressMirror::NoSlip`] stress of
-/// their parents. The incompressible scheme reads the parents ([`Boundary::parents`]) to link
+/// The mirror-particle wall model of one wall of any shape as a [`Boundary`]:
+/// [`Boundary::place`] builds a mirror for every fluid particle within `reach` of the wall (in
+/// ascending particle order) across the wall's local tangent ([`Shape::reflect`]: across a
+/// plate, its line; across a circle, the tangent at the closest point), the fill steps give them
+/// the no-slip velocity and the [`StressMirror::NoSlip`] stress of their parents. The incompressible scheme reads the parents ([`Boundary::parents`]) to link
 /// mirror pressures and velocities to their parents in its linear systems.
 #[derive(Debug, Clone)]
 pub struct MirrorWall {
@@ -158,50 +167,45 @@ impl MirrorWall {
             mirrors: Mirrors::default(),
         }
     }
-
-    /// The mirror plate of `wall`.
-    pub fn plate(&self, wall: &Plate) -> MirrorPlate {
-        MirrorPlate::of_plate(wall, self.reach)
-    }
 }
 
 impl Boundary for MirrorWall {
     fn place(
         &mut self,
-        wall: &mut Plate,
+        wall: &mut Wall,
         fluid_x: &[Vec2],
         _fluid_grid: &CellGrid,
         _radius: f64,
         out: &mut Vec<Vec2>,
     ) {
-        self.mirrors = build(&self.plate(wall), fluid_x);
+        self.mirrors = build_across(&*wall, self.reach, fluid_x);
         out.extend_from_slice(&self.mirrors.x);
     }
 
-    fn fill_velocities(&self, wall: &Plate, fluid: &Fluid, out: &mut [Vec2]) {
-        let plate = self.plate(wall);
+    /// No slip: `2 u_wall - u_parent` (the wall moves rigidly, so u_wall is the same at every
+    /// closest point).
+    fn fill_velocities(&self, wall: &Wall, fluid: &Fluid, out: &mut [Vec2]) {
+        let uw = wall.wall_velocity();
         for (o, &i) in out.iter_mut().zip(&self.mirrors.parent) {
-            *o = plate.mirror_velocity(&fluid.v[i as usize]);
+            *o = 2.0 * uw - fluid.v[i as usize];
         }
     }
 
     fn fill_stresses(
         &self,
-        wall: &Plate,
+        _wall: &Wall,
         _fluid: &Fluid,
         _sigma: &[Mat2],
         tau_p: &[Mat2],
         out: &mut [Mat2],
     ) {
-        let plate = self.plate(wall);
+        // StressMirror::NoSlip: the parent's stress, whatever the wall's orientation.
         for (o, &i) in out.iter_mut().zip(&self.mirrors.parent) {
-            *o = tau_p.get(i as usize).map_or(Mat2::zeros(), |t| {
-                plate.mirror_stress(t, StressMirror::NoSlip)
-            });
+            *o = tau_p.get(i as usize).copied().unwrap_or_else(Mat2::zeros);
         }
     }
 
-    fn positions(&self, _wall: &Plate) -> Vec<Vec2> {
+    fn positions(&self, _wall: &Wall) -> Vec<Vec2> {
         self.mirrors.x.clone()
     }
 
@@ -217,13 +221,20 @@ pub struct Mirrors {
     pub parent: Vec<u32>,
 }
 
-/// A mirror for every fluid particle with 0 < d < reach, in ascending particle order.
+/// A mirror for every fluid particle with 0 < d < reach from the plate, in ascending particle
+/// order.
 pub fn build(plate: &MirrorPlate, x: &[Vec2]) -> Mirrors {
+    build_across(&plate.shape(), plate.reach, x)
+}
+
+/// A mirror across the wall `shape` (reflected across its local tangent) for every fluid
+/// particle at a signed distance 0 < d < reach, in ascending particle order.
+pub fn build_across(shape: &dyn Shape<2>, reach: f64, x: &[Vec2]) -> Mirrors {
     let mut m = Mirrors::default();
     for (i, p) in x.iter().enumerate() {
-        let d = plate.distance(p);
-        if d > 0.0 && d < plate.reach {
-            m.x.push(plate.reflect(p));
+        let d = shape.signed_distance(p);
+        if d > 0.0 && d < reach {
+            m.x.push(shape.reflect(p));
             m.parent.push(i as u32);
         }
     }
@@ -362,6 +373,57 @@ mod tests {
             .all(|(&i, v)| (v + u[i as usize]).norm() < 1e-15));
     }
 
+    /// Across a circle (a cylinder and a circular tank), mirrors are reflected across the local
+    /// tangent: the circle bisects a parent and its mirror at the closest point, and the mirror
+    /// of any velocity is no slip there (the mean of parent and mirror is the wall's velocity,
+    /// here at rest).
+    #[test]
+    fn mirrors_across_a_circle_are_no_slip_at_the_closest_point() {
+        use crate::geometry::Ball;
+        for ball in [
+            Ball::obstacle(Vec2::new(0.01, 0.02), 0.1),
+            Ball::container(Vec2::new(0.01, 0.02), 0.25),
+        ] {
+            let mut wall = Wall::from(ball);
+            let x: Vec<Vec2> = (0..400)
+                .map(|k| {
+                    let a = 0.7 * k as f64;
+                    let r = 0.05 + 0.25 * (k as f64 / 400.0);
+                    Vec2::new(0.01, 0.02) + r * Vec2::new(a.cos(), a.sin())
+                })
+                .collect();
+            let mut model = MirrorWall::new(0.03);
+            let grid = CellGrid::build(&x, 0.03, &crate::neighbors::Domain::OPEN);
+            let mut out = Vec::new();
+            model.place(&mut wall, &x, &grid, 0.03, &mut out);
+            assert!(!out.is_empty());
+            let fluid = Fluid {
+                mass: 1.0,
+                v: x.iter().map(|p| Vec2::new(0.3 - p.y, 2.0 * p.x)).collect(),
+                x: x.clone(),
+                ..Default::default()
+            };
+            let mut v = vec![Vec2::zeros(); out.len()];
+            model.fill_velocities(&wall, &fluid, &mut v);
+            for (k, &i) in model.parents().iter().enumerate() {
+                let (xi, xm) = (x[i as usize], out[k]);
+                let d = ball.signed_distance(&xi);
+                assert!(d > 0.0 && d < 0.03);
+                assert!((0.5 * (xi + xm) - ball.closest_point(&xi)).norm() < 1e-15);
+                assert!((ball.signed_distance(&xm) + d).abs() < 1e-15);
+                assert!((0.5 * (fluid.v[i as usize] + v[k])).norm() < 1e-15);
+            }
+            let within = x
+                .iter()
+                .filter(|p| {
+                    let d = ball.signed_distance(p);
+                    d > 0.0 && d < 0.03
+                })
+                .count();
+            assert_eq!(model.parents().len(), within);
+        }
+    }
+
     /// Through the [`Boundary`] trait, as the incompressible scheme sees it: the parents are
     /// the particles within reach in ascending order, every mirror takes the moving plate's
     /// velocity for its no-slip continuation, and the filled velocities and stresses are that
@@ -370,18 +432,19 @@ mod tests {
     fn mirror_wall_through_the_boundary_trait() {
         let mut plate = Plate::new(30.0, 0.01);
         plate.velocity = 0.3;
+        let mut whole = Wall::from(plate.clone());
         let x = points();
         let mut wall: Box<dyn Boundary> = Box::new(MirrorWall::new(0.05));
         let grid = CellGrid::build(&x, 0.05, &crate::neighbors::Domain::OPEN);
         let mut out = vec![Vec2::new(9.0, 9.0)];
-        wall.place(&mut plate, &x, &grid, 0.05, &mut out);
+        wall.place(&mut whole, &x, &grid, 0.05, &mut out);
         let m = build(&MirrorPlate::of_plate(&plate, 0.05), &x);
         assert!(!m.parent.is_empty());
         assert_eq!(wall.parents(), &m.parent[..]);
         assert_eq!(&out[1..], &m.x[..]);
-        assert_eq!(wall.positions(&plate), m.x);
+        assert_eq!(wall.positions(&whole), m.x);
         let mut uw = vec![Vec2::zeros()];
-        wall.wall_velocities(&plate, &mut uw);
+        wall.wall_velocities(&whole, &mut uw);
         assert_eq!(uw.len(), 1 + m.parent.len());
         assert!(uw[1..].iter().all(|u| *u == -plate.n * 0.3));
         let fluid = Fluid {
@@ -392,10 +455,10 @@ mod tests {
             ..Default::default()
         };
         let mut v = vec![Vec2::zeros(); m.parent.len()];
-        wall.fill_velocities(&plate, &fluid, &mut v);
+        wall.fill_velocities(&whole, &fluid, &mut v);
         let tau: Vec<Mat2> = x.iter().map(|p| Mat2::new(p.x, p.y, p.y, 1.0)).collect();
         let mut s = vec![Mat2::zeros(); m.parent.len()];
-        wall.fill_stresses(&plate, &fluid, &[], &tau, &mut s);
+        wall.fill_stresses(&whole, &fluid, &[], &tau, &mut s);
         for (k, &i) in m.parent.iter().enumerate() {
             let i = i as usize;
             assert_eq!(v[k], 2.0 * uw[1 + k] - fluid.v[i]);

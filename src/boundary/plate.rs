@@ -10,10 +10,54 @@
 //! range only grows, so it is deterministic.
 //!
 //! The plate moves rigidly along its normal with `velocity` (positive away from the fluid, i.e.
-//! along -n); `displacement` is how far it has moved so far.
+//! along -n); `displacement` is how far it has moved so far. What sets the velocity is the
+//! wall's own [`Motion`], and the wall integrates its own pose ([`Plate::advance`]).
 
+use crate::geometry::HalfPlane;
 use crate::Vec2;
 use serde::{Deserialize, Serialize};
+
+/// What moves a wall: nothing, a given function of time, or an input of the running
+/// simulation. The motion is a rigid translation along the wall's normal, positive away from the
+/// fluid; over one step the velocity is the one in force at the step's start.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub enum Motion {
+    /// The wall stays where it was built.
+    #[default]
+    Fixed,
+    /// The velocity is a given function of time (see [`Prescribed`]).
+    Prescribed(Prescribed),
+    /// The velocity is the input `plate_velocity` in force (the drop's plate), set by the
+    /// simulation whenever the inputs change.
+    Input,
+}
+
+/// A prescribed normal velocity `v(t) = velocity + amplitude sin(angular_frequency t)` [m/s].
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct Prescribed {
+    pub velocity: f64,
+    pub amplitude: f64,
+    pub angular_frequency: f64,
+}
+
+impl Prescribed {
+    /// A constant velocity.
+    pub fn constant(velocity: f64) -> Self {
+        Self {
+            velocity,
+            ..Self::default()
+        }
+    }
+
+    /// The velocity at time t.
+    pub fn at(&self, t: f64) -> f64 {
+        if self.amplitude == 0.0 {
+            self.velocity
+        } else {
+            self.velocity + self.amplitude * (self.angular_frequency * t).sin()
+        }
+    }
+}
 
 /// The plate and the range of columns built so far.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -37,6 +81,9 @@ pub struct Plate {
     /// instead of growing to follow the fluid.
     #[serde(default)]
     pub fixed: bool,
+    /// What moves the wall.
+    #[serde(default)]
+    pub motion: Motion,
 }
 
 impl Plate {
@@ -52,6 +99,7 @@ impl Plate {
             k_min: 0,
             k_max: -1,
             fixed: false,
+            motion: Motion::Fixed,
         }
     }
 
@@ -68,7 +116,37 @@ impl Plate {
             k_min,
             k_max,
             fixed: true,
+            motion: Motion::Fixed,
         }
+    }
+
+    /// The same wall moved by `motion` (a prescribed motion starts at its velocity at t = 0).
+    pub fn with_motion(mut self, motion: Motion) -> Self {
+        self.motion = motion;
+        if let Motion::Prescribed(p) = motion {
+            self.velocity = p.at(0.0);
+        }
+        self
+    }
+
+    /// Move the wall over a step of `dt` that ended at `t`: a rigid translation along -n at the
+    /// velocity in force over the step, then the velocity of a prescribed motion at `t` for the
+    /// next step.
+    pub fn advance(&mut self, t: f64, dt: f64) {
+        let ds = self.velocity * dt;
+        if ds != 0.0 {
+            self.displacement += ds;
+            self.origin -= self.n * ds;
+        }
+        if let Motion::Prescribed(p) = self.motion {
+            self.velocity = p.at(t);
+        }
+    }
+
+    /// The solid's shape: the half-plane below the plate line.
+    #[inline]
+    pub fn shape(&self) -> HalfPlane<2> {
+        HalfPlane::new(self.origin, self.n)
     }
 
     /// Along-plate coordinate s (positive downhill) of a point.
@@ -80,7 +158,8 @@ impl Plate {
     /// Distance of a point from the plate, positive on the fluid side.
     #[inline]
     pub fn d(&self, x: &Vec2) -> f64 {
-        (x - self.origin).dot(&self.n)
+        use crate::geometry::Shape;
+        self.shape().signed_distance(x)
     }
 
     /// Global position of plate coordinates (s, d).
@@ -114,6 +193,20 @@ impl Plate {
         self.k_min = a;
         self.k_max = b;
         changed
+    }
+
+    /// Grow the column range to cover the points `x` with `margin` to spare at both ends
+    /// (nothing without points).
+    pub fn cover_points(&mut self, x: &[Vec2], margin: f64) {
+        let (lo, hi) = x
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                let s = self.s(p);
+                (lo.min(s), hi.max(s))
+            });
+        if lo.is_finite() {
+            self.cover(lo - margin, hi + margin);
+        }
     }
 
     /// s of column c (0-based within the built range).
@@ -160,6 +253,39 @@ mod tests {
         assert!(p.n.y > 0.0, "normal points up into the fluid");
         let x = p.point(0.3, 0.2);
         assert!((p.s(&x) - 0.3).abs() < 1e-14 && (p.d(&x) - 0.2).abs() < 1e-14);
+    }
+
+    #[test]
+    fn a_wall_integrates_its_own_motion() {
+        let dt = 1e-3;
+        let mut fixed = Plate::new(30.0, 0.1);
+        fixed.advance(dt, dt);
+        assert_eq!((fixed.origin, fixed.displacement), (Vec2::zeros(), 0.0));
+        // A sinusoidal prescribed motion: the velocity over each step is the one at its start,
+        // the displacement the sum of v(t_k) dt, the origin moved along -n by it.
+        let p = Prescribed {
+            velocity: 0.2,
+            amplitude: 0.5,
+            angular_frequency: 40.0,
+        };
+        let mut w = Plate::new(30.0, 0.1).with_motion(Motion::Prescribed(p));
+        let mut s = 0.0;
+        for k in 0..100 {
+            assert_eq!(w.velocity, p.at(k as f64 * dt));
+            s += p.at(k as f64 * dt) * dt;
+            w.advance((k + 1) as f64 * dt, dt);
+        }
+        assert!((w.displacement - s).abs() < 1e-15);
+        assert!((w.origin + w.n * s).norm() < 1e-15);
+        assert!(
+            (w.d(&Vec2::zeros()) - s).abs() < 1e-15,
+            "the fluid side grew by s"
+        );
+        // An input-driven wall keeps the velocity it is given.
+        let mut i = Plate::new(0.0, 0.1).with_motion(Motion::Input);
+        i.velocity = -0.3;
+        i.advance(dt, dt);
+        assert_eq!((i.velocity, i.displacement), (-0.3, -0.3 * dt));
     }
 
     #[test]

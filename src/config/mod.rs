@@ -23,9 +23,9 @@ mod spec;
 pub use fluid::{FluidParams, RheologyKind, RHEOLOGIES};
 pub use numerics::{
     ArtificialStressKind, ConformationMethod, EquationOfState, IsphFrame, IsphFreeSurface,
-    Numerics, ViscousOperator, ViscousStep, ARTIFICIAL_STRESS_KINDS, CONFORMATION_METHODS,
-    EQUATIONS_OF_STATE, ISPH_FRAMES, ISPH_FREE_SURFACES, SOUND_SPEED_FACTOR, VISCOUS_OPERATORS,
-    VISCOUS_STEPS,
+    Numerics, ViscousOperator, ViscousStep, WallBoundary, ARTIFICIAL_STRESS_KINDS,
+    CONFORMATION_METHODS, EQUATIONS_OF_STATE, ISPH_FRAMES, ISPH_FREE_SURFACES, SOUND_SPEED_FACTOR,
+    VISCOUS_OPERATORS, VISCOUS_STEPS, WALL_BOUNDARIES,
 };
 pub use plate::PlateParams;
 pub use spec::{

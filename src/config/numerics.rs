@@ -85,6 +85,33 @@ crate::choice_enum!(
     /// ISPH free-surface pressure condition (module documentation of `scheme::isph`).
     IsphFreeSurface, ISPH_FREE_SURFACES, Auto = "auto", ZeroPressure = "zero_pressure",
     NormalStress = "normal_stress");
+pub const WALL_BOUNDARIES: &[(&str, &str)] = &[
+    (
+        "auto",
+        "The scheme's paper's model on straight walls (wcsph: image, pdri: ghost, isph: mirror); on curved walls dummy particles (wcsph, pdri) or mirror particles (isph)",
+    ),
+    (
+        "image",
+        "Fang 2006's boundary + image particles (weakly compressible schemes, straight walls only)",
+    ),
+    (
+        "ghost",
+        "Ren 2015's wall + ghost particles (weakly compressible schemes, straight walls only)",
+    ),
+    (
+        "dummy",
+        "Adami, Hu & Adams 2012's dummy particles with pressure and velocity extrapolation (weakly compressible schemes, any wall)",
+    ),
+    (
+        "mirror",
+        "King & Lind 2021's mirror particles across the local tangent (isph, any wall)",
+    ),
+];
+
+crate::choice_enum!(
+    /// The wall model (`boundary` module documentation).
+    WallBoundary, WALL_BOUNDARIES, Auto = "auto", Image = "image", Ghost = "ghost",
+    Dummy = "dummy", Mirror = "mirror");
 crate::choice_enum!(
     /// How the solvent's viscous force is discretised.
     ViscousOperator, VISCOUS_OPERATORS, Auto = "auto", Nested = "nested", Laplacian = "laplacian");
@@ -135,5 +162,7 @@ crate::params! {
             "ISPH: solvent viscosity implicit (the time step is then set by the flow speed and the polymer) or explicit as in King & Lind eq. (24)",
         isph_free_surface: IsphFreeSurface = enumeration::<IsphFreeSurface>("IsphFreeSurface", "auto"), vr 51, unit "";
             "ISPH: free-surface pressure; normal_stress = King & Lind eq. (35a)'s solvent normal stress with a pressure gradient consistent with it (the jet buckles), zero_pressure = p = 0 (the drop keeps its volume best); auto = normal_stress in the jet scene, zero_pressure elsewhere",
+        wall_boundary: WallBoundary = enumeration::<WallBoundary>("WallBoundary", "auto"), vr 61, unit "";
+            "Wall model: image (Fang 2006) or ghost (Ren 2015) particles on straight walls, dummy particles (Adami et al. 2012) for the weakly compressible schemes on any wall, mirror particles (King & Lind 2021) for isph on any wall; auto = the scheme's paper's model on straight walls, dummy (wcsph, pdri) or mirror (isph) on curved ones",
     }
 }

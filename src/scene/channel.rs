@@ -21,6 +21,7 @@
 use super::{time_text, Outputs, Predictions, Scene, SceneConfig, SceneType};
 use super::{TimePlot, TimePlotPanel};
 use crate::boundary::plate::Plate;
+use crate::boundary::wall::Wall;
 use crate::config::{real, real_pos, ConfigError};
 use crate::diagnostics::SharedOutputs;
 use crate::neighbors::Domain;
@@ -92,6 +93,12 @@ impl SceneType for Channel {
 }
 
 impl Scene for Channel {
+    /// The bottom wall: the frame of the shared outputs (its force is the shear force on it).
+    /// It stays fixed: no input moves a channel wall.
+    fn plate_wall(&self) -> Option<usize> {
+        Some(0)
+    }
+
     /// The width H.
     fn reference_length(&self, cfg: &SceneConfig) -> f64 {
         cfg.channel.channel_width
@@ -134,11 +141,7 @@ impl Scene for Channel {
     /// the physical one at Fang's alpha = 1 and c = 12.5 m/s (measured: the Newtonian centre
     /// line at 0.80 U).
     fn effective_config(&self, cfg: &SceneConfig) -> SceneConfig {
-        let mut e = cfg.clone();
-        e.fluid.gravity = 0.0;
-        e.numerics.artificial_viscosity_alpha = 0.0;
-        e.numerics.artificial_viscosity_beta = 0.0;
-        e
+        body_force_driven(cfg)
     }
 
     /// Closed by its walls and periodic along the flow.
@@ -146,7 +149,7 @@ impl Scene for Channel {
         false
     }
 
-    fn build(&self, cfg: &SceneConfig, rest: Option<Mat2>) -> (Fluid, Vec<Plate>) {
+    fn build(&self, cfg: &SceneConfig, rest: Option<Mat2>) -> (Fluid, Vec<Wall>) {
         let dx = cfg.dx();
         let (n, m) = (cfg.numerics.particles_per_diameter, columns(cfg));
         let mut fluid = Fluid {
@@ -178,7 +181,7 @@ impl Scene for Channel {
         // The upper wall faces down: tangent -x, normal -y; its columns at s = -k dx sit at
         // x = k dx, k = 0 .. m-1.
         let top = Plate::spanning(Vec2::new(0.0, h), Vec2::new(-1.0, 0.0), dx, 1 - m, 0);
-        (fluid, vec![bottom, top])
+        (fluid, vec![bottom.into(), top.into()])
     }
 
     /// Fang's nested viscous operator lets the rows next to a wall zigzag (see
@@ -213,7 +216,6 @@ impl Scene for Channel {
     /// walls carry the force) and the channel's own three. The volume error is sum(m / rho)'s
     /// under every scheme: the closed channel keeps it.
     fn outputs(&self, st: &State, cfg: &SceneConfig) -> Outputs {
-        let full = SharedOutputs::compute(st, cfg.dx(), cfg.fluid.density);
         let fl = &st.fluid;
         let (h, l, dx) = (cfg.channel.channel_width, period(cfg), cfg.dx());
         let flow: f64 =
@@ -223,16 +225,7 @@ impl Scene for Channel {
                 .sum::<f64>()
                 / l;
         Outputs {
-            shared: SharedOutputs {
-                kinetic_energy: full.kinetic_energy,
-                volume_error: full.volume_error,
-                max_conformation_trace: full.max_conformation_trace,
-                min_conformation_det: full.min_conformation_det,
-                time_step: full.time_step,
-                particle_count: full.particle_count,
-                void_fraction: full.void_fraction,
-                ..Default::default()
-            },
+            shared: health_outputs(st, cfg),
             channel: ChannelOutputs {
                 centreline_velocity: centreline_velocity(fl, h, dx),
                 flow_rate: flow,
@@ -302,6 +295,33 @@ impl Scene for Channel {
     }
 }
 
+/// A closed cell driven by a body force (the channel, the cylinder array): gravity off, and so
+/// is Monaghan's artificial viscosity (see [`Channel`]'s `effective_config`).
+pub fn body_force_driven(cfg: &SceneConfig) -> SceneConfig {
+    let mut e = cfg.clone();
+    e.fluid.gravity = 0.0;
+    e.numerics.artificial_viscosity_alpha = 0.0;
+    e.numerics.artificial_viscosity_beta = 0.0;
+    e
+}
+
+/// The health figures of the shared outputs only (a closed cell has no drop extents, and no
+/// one plate carries its force): kinetic energy, volume error (sum(m / rho)'s under every
+/// scheme: a closed cell keeps it), conformation extremes, time step, particle count, voids.
+pub fn health_outputs(st: &State, cfg: &SceneConfig) -> SharedOutputs {
+    let full = SharedOutputs::compute(st, cfg.dx(), cfg.fluid.density);
+    SharedOutputs {
+        kinetic_energy: full.kinetic_energy,
+        volume_error: full.volume_error,
+        max_conformation_trace: full.max_conformation_trace,
+        min_conformation_det: full.min_conformation_det,
+        time_step: full.time_step,
+        particle_count: full.particle_count,
+        void_fraction: full.void_fraction,
+        ..Default::default()
+    }
+}
+
 /// u at y = H/2 from a least-squares parabola u = c0 + c1 y' + c2 y'^2 (y' = y - H/2) through
 /// the particles within 2 dx of the centre line (0 if there are fewer than three).
 pub fn centreline_velocity(fl: &Fluid, h: f64, dx: f64) -> f64 {
@@ -346,6 +366,7 @@ mod tests {
             .iter()
             .all(|x| x.x > 0.0 && x.x < 0.016 && x.y > 0.001 && x.y < 0.019));
         // Both walls: normals into the fluid, eight columns at x = 0, dx, ... 7 dx.
+        let walls: Vec<&Plate> = walls.iter().map(|w| w.plate().unwrap()).collect();
         assert_eq!(walls[0].n, Vec2::new(0.0, 1.0));
         assert_eq!(walls[1].n, Vec2::new(0.0, -1.0));
         for w in &walls {

@@ -165,7 +165,8 @@ fn string_twins_set_the_enumeration_by_name() {
             "viscous_operator_name",
             "isph_frame_name",
             "isph_viscous_step_name",
-            "isph_free_surface_name"
+            "isph_free_surface_name",
+            "wall_boundary_name"
         ]
     );
     assert!(name_variable("plate_inclination_name").is_none());

@@ -2,7 +2,8 @@
 //! vertically down at the impact velocity towards a rigid plate.
 
 use super::{Scene, SceneConfig, SceneType};
-use crate::boundary::plate::Plate;
+use crate::boundary::plate::{Motion, Plate};
+use crate::boundary::wall::Wall;
 use crate::config::{real, real_pos, ConfigError};
 use crate::diagnostics::NoOutputs;
 use crate::particles::Fluid;
@@ -69,6 +70,11 @@ impl Scene for Drop {
         true
     }
 
+    /// The plate under the drop, moved by the input `plate_velocity`.
+    fn plate_wall(&self) -> Option<usize> {
+        Some(0)
+    }
+
     /// The drop's diameter D.
     fn reference_length(&self, cfg: &SceneConfig) -> f64 {
         cfg.drop.drop_diameter
@@ -112,9 +118,9 @@ impl Scene for Drop {
         Ok(())
     }
 
-    fn build(&self, cfg: &SceneConfig, rest: Option<Mat2>) -> (Fluid, Vec<Plate>) {
+    fn build(&self, cfg: &SceneConfig, rest: Option<Mat2>) -> (Fluid, Vec<Wall>) {
         let (fluid, plate) = build(cfg, rest);
-        (fluid, vec![plate])
+        (fluid, vec![plate.with_motion(Motion::Input).into()])
     }
 
     /// The impact velocity (sqrt(g D) if the drop is released at rest).

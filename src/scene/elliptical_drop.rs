@@ -245,7 +245,7 @@ impl Scene for EllipticalDrop {
         &self,
         cfg: &SceneConfig,
         _rest: Option<crate::Mat2>,
-    ) -> (Fluid, Vec<crate::boundary::plate::Plate>) {
+    ) -> (Fluid, Vec<crate::boundary::wall::Wall>) {
         (build(cfg), Vec::new())
     }
 

@@ -23,7 +23,7 @@ pub use table::{
     param_spec, NAME_SUFFIX, NAME_VR_OFFSET, OUTPUTS, PARAMS,
 };
 
-use crate::boundary::plate::Plate;
+use crate::boundary::wall::Wall;
 use crate::choice::Choice;
 use crate::config::{
     ConfigError, FluidParams, IsphFreeSurface, Numerics, ParamGroup, ParamSpec, ParamValue,
@@ -116,24 +116,33 @@ pub trait Scene: Send + Sync {
         Vec2::new(0.0, -cfg.fluid.gravity)
     }
 
-    /// Whether the input `plate_velocity` may move this scene's first wall. Only a scene with
-    /// one free-standing plate can: a channel wall moved along its normal would squeeze the
-    /// channel, and the elliptical drop has no wall.
+    /// Whether the input `plate_velocity` may move this scene's plate ([`Scene::plate_wall`]),
+    /// whose motion is then [`Motion::Input`](crate::boundary::plate::Motion::Input). Only a
+    /// scene with one free-standing plate can: a channel wall moved along its normal would
+    /// squeeze the channel, and the elliptical drop has no wall.
     fn has_moving_plate(&self) -> bool {
         false
+    }
+
+    /// Which of [`Scene::build`]'s walls is "the plate" the shared outputs refer to (the frame
+    /// of the drop's width and height, `plate_displacement`, the normal and tangential wall
+    /// force) and the input `plate_velocity` moves when [`Scene::has_moving_plate`]; None: the
+    /// outputs are in the global frame.
+    fn plate_wall(&self) -> Option<usize> {
+        None
     }
 
     // ---- The state.
 
     /// The initial fluid and walls. `rest` is the model's conformation at rest, or None for
     /// models without a conformation tensor.
-    fn build(&self, cfg: &SceneConfig, rest: Option<Mat2>) -> (Fluid, Vec<Plate>);
+    fn build(&self, cfg: &SceneConfig, rest: Option<Mat2>) -> (Fluid, Vec<Wall>);
 
     /// The initial state: [`Scene::build`]'s fluid and walls, and whatever else the scene
     /// keeps in the state (the jet's inlet and its bookkeeping).
     fn initial_state(&self, cfg: &SceneConfig, rest: Option<Mat2>) -> State {
         let (fluid, walls) = self.build(cfg, rest);
-        State::new(fluid, walls)
+        State::new(fluid, walls, self.plate_wall())
     }
 
     /// Called before every step (inflow).
@@ -371,6 +380,7 @@ scenes! {
     Jet => jet::Jet,
     Channel => channel::Channel,
     EllipticalDrop => elliptical_drop::EllipticalDrop,
+    CylinderArray => cylinder_array::CylinderArray,
 }
 
 /// The row of the `scene` parameter.

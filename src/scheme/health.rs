@@ -6,10 +6,14 @@
 
 use super::params::Params;
 use crate::boundary::plate::Plate;
+use crate::boundary::wall::Wall;
 use crate::config::ArtificialStressKind;
 use crate::eos::Eos;
+use crate::geometry::{Shape, Side};
 use crate::particles::Fluid;
 use crate::rheology::Rheology;
+use crate::state::State;
+use crate::Vec2;
 use rayon::prelude::*;
 
 /// A particle this far below a plate (in particle spacings) has gone through it.
@@ -21,9 +25,17 @@ const MIN_TASK_LIGHT: usize = 1024;
 
 /// Health of a weakly compressible state after a step: the void fraction, or the cause of a
 /// breakdown.
-pub fn check_health<R: Rheology>(p: &Params, fl: &Fluid, walls: &[Plate]) -> Result<f64, String> {
-    check_particles(fl, walls, p.dx, p.domain_radius, R::ELASTIC, Some(&p.eos))?;
-    let voids = fluid_void_fraction(fl, walls.first(), p.dx);
+pub fn check_health<R: Rheology>(p: &Params, st: &State) -> Result<f64, String> {
+    let fl = &st.fluid;
+    check_particles(
+        fl,
+        &st.walls,
+        p.dx,
+        p.domain_radius,
+        R::ELASTIC,
+        Some(&p.eos),
+    )?;
+    let voids = fluid_void_fraction(fl, st.plate(), &st.walls, p.dx);
     if p.fracture_void_fraction > 0.0 && voids > p.fracture_void_fraction {
         let knob = match p.art_kind {
             ArtificialStressKind::Fang => "artificial_stress_epsilon",
@@ -46,7 +58,7 @@ pub fn check_health<R: Rheology>(p: &Params, fl: &Fluid, walls: &[Plate]) -> Res
 /// plate (no particle more than [`PENETRATION_DEPTH`] spacings `dx` below it).
 pub fn check_particles(
     fl: &Fluid,
-    walls: &[Plate],
+    walls: &[Wall],
     dx: f64,
     domain_radius: f64,
     elastic: bool,
@@ -98,7 +110,7 @@ pub fn check_particles(
             ));
         }
         for pl in walls {
-            if pl.d(&fl.x[i]) < -PENETRATION_DEPTH * dx {
+            if pl.signed_distance(&fl.x[i]) < -PENETRATION_DEPTH * dx {
                 return Err(format!("particle {i} went through the plate"));
             }
         }
@@ -107,11 +119,31 @@ pub fn check_particles(
 }
 
 /// Void fraction of the fluid (see [`crate::health`]) on cells of two particle spacings, in the
-/// plate's frame when there is a plate.
-pub fn fluid_void_fraction(fl: &Fluid, plate: Option<&Plate>, dx: f64) -> f64 {
+/// plate's frame when there is a plate. A solid the fluid flows around (a cylinder of `walls`)
+/// is not a hole: its disc and the spacing around it count as filled.
+pub fn fluid_void_fraction(fl: &Fluid, plate: Option<&Plate>, walls: &[Wall], dx: f64) -> f64 {
+    let mut x = std::borrow::Cow::Borrowed(&fl.x);
+    for w in walls {
+        if let Wall::Circle(c) = w {
+            if c.ball.fluid == Side::Outside {
+                let (o, r) = (c.ball.centre, c.ball.radius);
+                let k = (r / dx).ceil() as i64;
+                for j in -k..=k {
+                    for i in -k..=k {
+                        let p = o + Vec2::new(i as f64, j as f64) * dx;
+                        // The solid and the spacing next to it that the wall's virtual
+                        // particles own.
+                        if w.signed_distance(&p) < dx {
+                            x.to_mut().push(p);
+                        }
+                    }
+                }
+            }
+        }
+    }
     let pts: Vec<(f64, f64)> = match plate {
-        Some(pl) => fl.x.iter().map(|x| (pl.s(x), pl.d(x))).collect(),
-        None => fl.x.iter().map(|x| (x.x, x.y)).collect(),
+        Some(pl) => x.iter().map(|x| (pl.s(x), pl.d(x))).collect(),
+        None => x.iter().map(|x| (x.x, x.y)).collect(),
     };
     crate::health::void_fraction(&pts, 2.0 * dx, plate.is_some())
 }
@@ -123,7 +155,7 @@ mod tests {
     use crate::{Mat2, Vec2};
 
     /// A 10 x 10 lattice of spacing `dx` above a level plate, at rest and at rho0.
-    fn lattice(dx: f64) -> (Fluid, Vec<Plate>) {
+    fn lattice(dx: f64) -> (Fluid, Vec<Wall>) {
         let mut fl = Fluid {
             mass: 1000.0 * dx * dx,
             ..Default::default()
@@ -137,7 +169,7 @@ mod tests {
             fl.rho.push(1000.0);
             fl.conf.push(Mat2::identity());
         }
-        (fl, vec![Plate::new(0.0, dx)])
+        (fl, vec![Plate::new(0.0, dx).into()])
     }
 
     /// Every scheme's checks, in their order: a healthy state passes; a non-finite value names
@@ -151,7 +183,7 @@ mod tests {
             rho0: 1000.0,
             c: 10.0,
         };
-        let check = |fl: &Fluid, walls: &[Plate], eos: Option<&Eos>| {
+        let check = |fl: &Fluid, walls: &[Wall], eos: Option<&Eos>| {
             check_particles(fl, walls, dx, 1.0, true, eos)
         };
         let (fl, walls) = lattice(dx);

@@ -15,7 +15,7 @@ pub mod pdri;
 pub mod wc;
 pub mod wcsph;
 
-use crate::boundary::plate::Plate;
+use crate::boundary::wall::Wall;
 use crate::config::{ConfigError, FluidParams, IsphFrame, IsphFreeSurface, Numerics, ParamSpec};
 use crate::kernel::CubicSpline;
 use crate::rheology::{AnyRheology, Rheology};
@@ -52,6 +52,18 @@ impl SchemeKind {
         match self {
             SchemeKind::Isph => 3.0 * isph::H_OVER_DX,
             SchemeKind::Wcsph | SchemeKind::Pdri => 2.0 * smoothing_ratio,
+        }
+    }
+
+    /// The wall model of the scheme's paper on straight walls, what `wall_boundary = auto`
+    /// means there (Fang 2006's image particles, Ren 2015's ghost particles, King & Lind 2021's
+    /// mirror particles).
+    pub fn paper_wall_model(self) -> crate::boundary::Model {
+        use crate::boundary::Model;
+        match self {
+            SchemeKind::Wcsph => Model::Image,
+            SchemeKind::Pdri => Model::Ghost,
+            SchemeKind::Isph => Model::Mirror,
         }
     }
 
@@ -167,7 +179,7 @@ pub fn build(
     fluid: &FluidParams,
     numerics: &Numerics,
     params: Params,
-    plates: &[Plate],
+    plates: &[Wall],
 ) -> Box<dyn Scheme> {
     let model = AnyRheology::from_fluid(fluid);
     let h = numerics.smoothing_ratio * params.dx;

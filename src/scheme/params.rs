@@ -4,7 +4,7 @@
 
 use crate::config::{
     ArtificialStressKind, ConformationMethod, FluidParams, IsphFreeSurface, Numerics,
-    ViscousOperator,
+    ViscousOperator, WallBoundary,
 };
 use crate::eos::Eos;
 use crate::neighbors::Domain;
@@ -39,6 +39,8 @@ pub struct Params {
     pub domain: Domain,
     /// Whether the domain has a free surface (the scene's: every scene but the closed channel).
     pub free_surface: bool,
+    /// The wall model asked for (`auto`: see [`crate::boundary`]).
+    pub wall_boundary: WallBoundary,
     /// What `isph_free_surface = auto` means in this scene (never `Auto` itself).
     pub auto_free_surface: IsphFreeSurface,
 }
@@ -72,6 +74,7 @@ impl Params {
             domain_radius: f64::INFINITY,
             domain: Domain::OPEN,
             free_surface: true,
+            wall_boundary: n.wall_boundary,
             auto_free_surface: IsphFreeSurface::ZeroPressure,
         }
     }

@@ -31,7 +31,7 @@ use super::params::Params;
 use super::wc::{ghost_walls, WcCore};
 use super::Scheme;
 use crate::boundary::ghost::WallModel;
-use crate::boundary::plate::Plate;
+use crate::boundary::wall::Wall;
 use crate::kernel::Kernel;
 use crate::neighbors::Domain;
 use crate::particles::Fluid;
@@ -65,7 +65,7 @@ pub struct Pdri<K: Kernel, R: Rheology> {
 impl<K: Kernel, R: Rheology> Pdri<K, R> {
     /// The scheme for the walls `plates` of the initial state, each with Ren's wall and ghost
     /// particles.
-    pub fn new(kernel: K, model: R, p: Params, plates: &[Plate]) -> Self {
+    pub fn new(kernel: K, model: R, p: Params, plates: &[Wall]) -> Self {
         let walls = ghost_walls(kernel, WallModel::Ren, &p, plates);
         Self {
             core: WcCore::new(kernel, model, p, walls),
@@ -146,6 +146,7 @@ impl<K: Kernel, R: Rheology> Scheme for Pdri<K, R> {
         let c = &mut self.core;
         c.refresh_neighbors(&st.fluid.x, &mut st.walls);
         let r0 = c.rates(&st.fluid, &st.walls);
+        let per_wall0 = c.wall_on_fluid_per_wall(r0.wall_on_fluid, st.fluid.mass);
         let factor = c.p.dt_factor.min(REN_DT_FACTOR);
         let dt_stable = c.stable_dt(&st.fluid, &r0, factor, false); // eq. (25c)
         let dt = dt_stable.min(max_dt);
@@ -173,13 +174,22 @@ impl<K: Kernel, R: Rheology> Scheme for Pdri<K, R> {
         let on_fluid = (r0.wall_on_fluid + r1.wall_on_fluid) * 0.5;
         st.wall_force = -on_fluid;
         st.wall_impulse += -on_fluid * dt;
+        let per_wall1 = self
+            .core
+            .wall_on_fluid_per_wall(r1.wall_on_fluid, st.fluid.mass);
+        let per_wall = per_wall0
+            .iter()
+            .zip(&per_wall1)
+            .map(|(a, b)| -(a + b) * 0.5)
+            .collect();
+        st.book_wall_forces(per_wall, dt);
         st.last_dt = dt_stable;
         let interval = self.core.p.reinit_interval;
         if interval > 0 && (st.step + 1).is_multiple_of(interval) {
             self.core.refresh_neighbors(&st.fluid.x, &mut st.walls);
             self.reinitialise_density(&mut st.fluid);
         }
-        st.void_fraction = check_health::<R>(&self.core.p, &st.fluid, &st.walls)?;
+        st.void_fraction = check_health::<R>(&self.core.p, st)?;
         Ok(dt)
     }
 

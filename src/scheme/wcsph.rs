@@ -33,8 +33,8 @@ use super::health::check_health;
 use super::params::Params;
 use super::wc::{ghost_walls, WcCore};
 use super::Scheme;
-use crate::boundary::ghost::{keep_above_plate, WallModel};
-use crate::boundary::plate::Plate;
+use crate::boundary::ghost::{keep_out_of_wall, WallModel};
+use crate::boundary::wall::Wall;
 use crate::kernel::Kernel;
 use crate::particles::Fluid;
 use crate::rheology::Rheology;
@@ -51,7 +51,7 @@ pub struct Wcsph<K: Kernel, R: Rheology> {
 impl<K: Kernel, R: Rheology> Wcsph<K, R> {
     /// The scheme for the walls `plates` of the initial state, each with Fang's boundary and
     /// image particles.
-    pub fn new(kernel: K, model: R, p: Params, plates: &[Plate]) -> Self {
+    pub fn new(kernel: K, model: R, p: Params, plates: &[Wall]) -> Self {
         let walls = ghost_walls(kernel, WallModel::Fang, &p, plates);
         Self {
             core: WcCore::new(kernel, model, p, walls),
@@ -80,18 +80,22 @@ impl<K: Kernel, R: Rheology> Scheme for Wcsph<K, R> {
         c.update(&mut self.next, &st.fluid, &self.half.v, &self.half.conf, dt);
         std::mem::swap(&mut st.fluid, &mut self.next);
         let mut contact = Vec2::zeros();
-        for wall in &st.walls {
-            let (m, reflections) = keep_above_plate(&mut st.fluid, wall);
+        let mut per_wall = c.wall_on_fluid_per_wall(r1.wall_on_fluid, st.fluid.mass);
+        for (wall, on_fluid) in st.walls.iter().zip(per_wall.iter_mut()) {
+            let (m, reflections) = keep_out_of_wall(&mut st.fluid, wall);
             contact += m;
             st.wall_reflections += reflections;
+            // The force of the fluid on this wall alone.
+            *on_fluid = -*on_fluid - m / dt;
         }
+        st.book_wall_forces(per_wall, dt);
         // Force of the fluid on the plate is minus the force of the wall particles on the fluid
         // (and minus the contact momentum over the step); integrating it with the corrector's
         // own rates makes the momentum balance exact.
         st.wall_force = -r1.wall_on_fluid - contact / dt;
         st.wall_impulse += -r1.wall_on_fluid * dt - contact;
         st.last_dt = dt_stable;
-        st.void_fraction = check_health::<R>(&c.p, &st.fluid, &st.walls)?;
+        st.void_fraction = check_health::<R>(&c.p, st)?;
         Ok(dt)
     }
 

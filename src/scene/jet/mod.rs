@@ -43,6 +43,7 @@
 
 use super::{Outputs, Predictions, Scene, SceneConfig, SceneType};
 use crate::boundary::plate::Plate;
+use crate::boundary::wall::Wall;
 use crate::config::{real, real_pos, ConfigError, IsphFreeSurface};
 use crate::diagnostics::SharedOutputs;
 use crate::particles::Fluid;
@@ -128,6 +129,11 @@ impl SceneType for Jet {
 }
 
 impl Scene for Jet {
+    /// The plate the jet falls on (the container's sides, if any, come after it).
+    fn plate_wall(&self) -> Option<usize> {
+        Some(0)
+    }
+
     /// King & Lind's jet ([`DEFAULTS`]).
     fn defaults(&self) -> &'static str {
         DEFAULTS
@@ -209,7 +215,7 @@ impl Scene for Jet {
 
     /// The plate, the side walls if any, and a full nozzle: [`buffer_rows`] rows of particles at
     /// the inflow state above the exit.
-    fn build(&self, cfg: &SceneConfig, rest: Option<Mat2>) -> (Fluid, Vec<Plate>) {
+    fn build(&self, cfg: &SceneConfig, rest: Option<Mat2>) -> (Fluid, Vec<Wall>) {
         let dx = cfg.dx();
         let plate = Plate::new(cfg.plate.plate_inclination, dx);
         let nz = Nozzle::from_config(cfg);
@@ -230,15 +236,15 @@ impl Scene for Jet {
                 }
             }
         }
-        let mut walls = vec![plate.clone()];
-        walls.extend(side_walls(&plate, cfg.jet.container_width));
+        let mut walls: Vec<Wall> = vec![plate.clone().into()];
+        walls.extend(side_walls(&plate, cfg.jet.container_width).into_iter().map(Wall::from));
         (fluid, walls)
     }
 
     /// [`Scene::build`]'s fluid and walls, the inlet and its bookkeeping.
     fn initial_state(&self, cfg: &SceneConfig, rest: Option<Mat2>) -> State {
         let (fluid, walls) = self.build(cfg, rest);
-        let mut st = State::new(fluid, walls);
+        let mut st = State::new(fluid, walls, self.plate_wall());
         nozzle::start(cfg, &mut st);
         st
     }

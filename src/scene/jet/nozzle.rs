@@ -2,7 +2,7 @@
 //! emitted, and the side walls (see the module documentation of [`super`], "Inflow").
 
 use super::SceneConfig;
-use crate::boundary::plate::Plate;
+use crate::boundary::plate::{Motion, Plate};
 use crate::particles::Fluid;
 use crate::state::{Inflow, SceneState, State};
 use crate::{Mat2, Vec2};
@@ -139,6 +139,7 @@ pub fn side_walls(plate: &Plate, width: f64) -> Vec<Plate> {
         k_min: 0,
         k_max: -1,
         fixed: false,
+        motion: Motion::Fixed,
     };
     vec![wall(-0.5 * width, -plate.n), wall(0.5 * width, plate.n)]
 }

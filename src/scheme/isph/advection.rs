@@ -13,7 +13,7 @@
 //! removed (King's code reflects it too); the momentum removed counts in the wall force.
 
 use super::{Context, Isph};
-use crate::boundary::ghost::keep_above_plate;
+use crate::boundary::ghost::keep_out_of_wall;
 use crate::kernel::Kernel;
 use crate::operators::shifting;
 use crate::particles::Fluid;
@@ -106,7 +106,7 @@ impl<R: Rheology> Isph<R> {
         }
         let mut contact = Vec2::zeros();
         for wall in &st.walls {
-            let (m, reflections) = keep_above_plate(&mut st.fluid, wall);
+            let (m, reflections) = keep_out_of_wall(&mut st.fluid, wall);
             contact += m;
             st.wall_reflections += reflections;
         }

@@ -94,7 +94,7 @@ pub mod walls;
 use super::health;
 use super::params::Params;
 use super::Scheme;
-use crate::boundary::plate::Plate;
+use crate::boundary::wall::Wall;
 use crate::boundary::Boundary;
 use crate::config::{ConformationMethod, IsphFrame, IsphFreeSurface, Numerics, ViscousStep};
 use crate::kernel::{Kernel, QuinticSpline};
@@ -165,7 +165,7 @@ impl<R: Rheology> Isph<R> {
     /// The scheme for the numerics `cfg` of an effective configuration, the constants `p` (which
     /// say whether the scene has a free surface and what `auto` means for it) and the plates of
     /// the initial state.
-    pub fn new(model: R, p: Params, cfg: &Numerics, plates: &[Plate]) -> Self {
+    pub fn new(model: R, p: Params, cfg: &Numerics, plates: &[Wall]) -> Self {
         let kernel = QuinticSpline::new(H_OVER_DX * p.dx);
         // The EVSS floor was measured on drops; the closed channel keeps the configured
         // alpha_V (King & Lind's beta = 0 channel uses alpha_V = 0.01).
@@ -396,6 +396,14 @@ impl<R: Rheology> Scheme for Isph<R> {
         let contact = self.advect(st, &ctx, &f.u_ps, u_new, conf, books.held_momentum);
         st.wall_force = -books.wall_on_fluid - contact / dt;
         st.wall_impulse += -books.wall_on_fluid * dt - contact;
+        // One wall takes all the walls' force; with more, the implicit steps do not say which
+        // wall moved which momentum: not split.
+        let per_wall = if st.walls.len() == 1 {
+            vec![st.wall_force]
+        } else {
+            Vec::new()
+        };
+        st.book_wall_forces(per_wall, dt);
         st.remap_impulse += books.remap_force * dt;
         st.pressure = pressure.p;
         st.solver_iterations[0] += books.iterations[0];
@@ -411,7 +419,7 @@ impl<R: Rheology> Scheme for Isph<R> {
             R::ELASTIC,
             None,
         )?;
-        st.void_fraction = health::fluid_void_fraction(&st.fluid, st.walls.first(), self.p.dx);
+        st.void_fraction = health::fluid_void_fraction(&st.fluid, st.plate(), &st.walls, self.p.dx);
         self.timings.pressure_solve += books.pressure_time;
         self.timings.viscous_solve += books.viscous_time;
         self.timings.total += t_start.elapsed().as_secs_f64();

@@ -15,7 +15,7 @@
 
 use super::{Context, Isph};
 use crate::boundary::mirror::MirrorWall;
-use crate::boundary::plate::Plate;
+use crate::boundary::wall::Wall;
 use crate::boundary::wall_profile;
 use crate::boundary::Boundary;
 use crate::kernel::Kernel;
@@ -27,7 +27,7 @@ use std::ops::Range;
 
 /// King & Lind's mirror particles for every plate of `plates`, reaching `reach` (King's code:
 /// the kernel support).
-pub(super) fn mirror_walls(plates: &[Plate], reach: f64) -> Vec<Box<dyn Boundary>> {
+pub(super) fn mirror_walls(plates: &[Wall], reach: f64) -> Vec<Box<dyn Boundary>> {
     plates
         .iter()
         .map(|_| Box::new(MirrorWall::new(reach)) as Box<dyn Boundary>)
@@ -52,7 +52,7 @@ impl Virtual {
     /// is the search radius. A model without parents is refused.
     pub fn place(
         walls: &mut [Box<dyn Boundary>],
-        plates: &mut [Plate],
+        plates: &mut [Wall],
         xs: &[Vec2],
         radius: f64,
         dom: &Domain,
@@ -105,20 +105,25 @@ impl Virtual {
     /// odd continuation misses ([`wall_profile::velocity_corrections`]).
     pub fn velocity_curvature(
         &self,
-        plates: &[Plate],
+        plates: &[Wall],
         xs: &[Vec2],
         u: &[Vec2],
         radius: f64,
     ) -> Vec<Vec2> {
         let mut c = Vec::with_capacity(self.len());
-        for (plate, r) in plates.iter().zip(&self.ranges) {
-            c.extend(wall_profile::velocity_corrections(
-                plate,
-                xs,
-                &self.parent[r.clone()],
-                u,
-                radius,
-            ));
+        for (wall, r) in plates.iter().zip(&self.ranges) {
+            match wall.plate() {
+                Some(plate) => c.extend(wall_profile::velocity_corrections(
+                    plate,
+                    xs,
+                    &self.parent[r.clone()],
+                    u,
+                    radius,
+                )),
+                // The profile fits are across a straight wall (a fully developed channel); a
+                // curved wall's mirrors take the plain odd continuation.
+                None => c.extend(std::iter::repeat_n(Vec2::zeros(), r.len())),
+            }
         }
         c
     }
@@ -131,7 +136,7 @@ impl<R: Rheology> Isph<R> {
     pub(super) fn virtual_stresses(
         &self,
         ctx: &Context,
-        plates: &[Plate],
+        plates: &[Wall],
         fluid: &Fluid,
         phi: &[Mat2],
     ) -> Vec<Mat2> {
@@ -142,6 +147,10 @@ impl<R: Rheology> Isph<R> {
         }
         if !self.free_surface {
             for (plate, r) in plates.iter().zip(&virt.ranges) {
+                // Straight walls only (see `velocity_curvature`).
+                let Some(plate) = plate.plate() else {
+                    continue;
+                };
                 let d = wall_profile::shear_stress_corrections(
                     plate,
                     &ctx.xs,
@@ -164,15 +173,20 @@ impl<R: Rheology> Isph<R> {
     pub(super) fn viscous_curvature(
         &self,
         ctx: &Context,
-        plates: &[Plate],
+        plates: &[Wall],
         phi: &[Mat2],
         mu: &[f64],
     ) -> Vec<Vec2> {
         let (rho, g, radius) = (self.rho, self.p.gravity, self.kernel.radius());
         let virt = &ctx.virt;
         let mut c = Vec::with_capacity(virt.len());
-        for (plate, r) in plates.iter().zip(&virt.ranges) {
+        for (wall, r) in plates.iter().zip(&virt.ranges) {
             let par = &virt.parent[r.clone()];
+            // Straight walls only (see `velocity_curvature`).
+            let Some(plate) = wall.plate() else {
+                c.extend(std::iter::repeat_n(Vec2::zeros(), par.len()));
+                continue;
+            };
             let slope = if R::ELASTIC {
                 wall_profile::shear_stress_slope(plate, &ctx.xs, par, phi, radius)
             } else {
@@ -212,23 +226,25 @@ impl<R: Rheology> Isph<R> {
 mod tests {
     use super::*;
     use crate::boundary::ghost::{GhostWall, WallModel};
+    use crate::boundary::plate::Plate;
+    use crate::geometry::Shape;
     use crate::kernel::{CubicSpline, QuinticSpline};
 
     /// A lattice of fluid above a plate inclined at 30 degrees that moves away from the fluid.
-    fn layer(dx: f64) -> (Vec<Plate>, Vec<Vec2>) {
+    fn layer(dx: f64) -> (Vec<Wall>, Vec<Vec2>) {
         let mut plate = Plate::new(30.0, dx);
         plate.velocity = 0.2;
         let xs = (0..20 * 8)
             .map(|q| plate.point(((q % 20) as f64 - 9.5) * dx, ((q / 20) as f64 + 0.5) * dx))
             .collect();
-        (vec![plate], xs)
+        (vec![plate.into()], xs)
     }
 
     /// `Virtual::place` of `walls` for the fluid `xs`, with the positions of fluid then virtual
     /// particles.
     fn place(
         walls: &mut [Box<dyn Boundary>],
-        plates: &mut [Plate],
+        plates: &mut [Wall],
         xs: &[Vec2],
         radius: f64,
     ) -> (Result<Virtual, String>, Vec<Vec2>) {
@@ -260,7 +276,9 @@ mod tests {
             let i = i as usize;
             // The mirror is the parent reflected across the plate.
             let (xm, xi) = (all_x[xs.len() + m], xs[i]);
-            assert!((plates[0].d(&xm) + plates[0].d(&xi)).abs() < 1e-15);
+            assert!(
+                (plates[0].signed_distance(&xm) + plates[0].signed_distance(&xi)).abs() < 1e-15
+            );
             let mean = 0.5 * (ext[xs.len() + m] - curv[m] + u[i]);
             assert!((mean - uw).norm() < 1e-12);
         }

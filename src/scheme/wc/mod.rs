@@ -23,9 +23,10 @@
 //! the same code runs in periodic boxes.
 
 use super::params::Params;
+use crate::boundary::dummy::DummyWall;
 use crate::boundary::ghost::{GhostWall, WallModel};
-use crate::boundary::plate::Plate;
-use crate::boundary::Boundary;
+use crate::boundary::wall::Wall;
+use crate::boundary::{self, Boundary, Model};
 use crate::kernel::Kernel;
 use crate::neighbors::{CellGrid, NeighborList};
 use crate::operators::artificial::{self, ArtificialStress};
@@ -44,16 +45,35 @@ const SKIN: f64 = 0.25;
 pub(crate) const MIN_TASK: usize = 64;
 pub(crate) const MIN_TASK_LIGHT: usize = 1024;
 
-/// One wall model of kind `model` (Fang's or Ren's virtual particles) per plate.
+/// One wall model per wall, as `wall_boundary` ([`Params::wall_boundary`]) resolves for the
+/// wall's shape ([`boundary::resolve`]): `model` is the scheme's paper's (Fang's or Ren's
+/// virtual particles), `auto`'s choice on straight walls; on curved ones Adami, Hu & Adams
+/// 2012's dummy particles ([`DummyWall`]), which need no straight frame. A model the scheme or
+/// shape cannot take is refused when the simulation is built, before this.
 pub fn ghost_walls<K: Kernel>(
     kernel: K,
     model: WallModel,
     p: &Params,
-    plates: &[Plate],
+    plates: &[Wall],
 ) -> Vec<Box<dyn Boundary>> {
+    let paper = match model {
+        WallModel::Fang => Model::Image,
+        WallModel::Ren => Model::Ghost,
+    };
     plates
         .iter()
-        .map(|_| Box::new(GhostWall::new(kernel, model, p.domain, p.dx)) as Box<dyn Boundary>)
+        .map(|w| {
+            let ghost =
+                |m| Box::new(GhostWall::new(kernel, m, p.domain, p.dx)) as Box<dyn Boundary>;
+            match boundary::resolve(p.wall_boundary, paper, w) {
+                Ok(Model::Image) => ghost(WallModel::Fang),
+                Ok(Model::Ghost) => ghost(WallModel::Ren),
+                Ok(Model::Dummy) => Box::new(DummyWall::new(kernel, p.domain, p.dx, p.gravity)),
+                Ok(Model::Mirror) | Err(_) => {
+                    unreachable!("wall models are checked when a simulation is built")
+                }
+            }
+        })
         .collect()
 }
 
@@ -112,6 +132,10 @@ pub struct WcCore<K: Kernel, R: Rheology> {
     pub drho: Vec<f64>,
     pub acc: Vec<Vec2>,
     wall_acc: Vec<Vec2>,
+    /// With more than one wall: per fluid particle, the share of `wall_acc` (the acceleration
+    /// the virtual particles give it) of each wall, wall by wall, so each wall's force is
+    /// measured alone.
+    wall_split: Vec<Vec2>,
 }
 
 impl<K: Kernel, R: Rheology> WcCore<K, R> {
@@ -147,7 +171,26 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
             drho: Vec::new(),
             acc: Vec::new(),
             wall_acc: Vec::new(),
+            wall_split: Vec::new(),
         }
+    }
+
+    /// Force of each wall's virtual particles on the fluid at the last rate evaluation, whose
+    /// total (all walls) was `total` [N/m]. With one wall it is the total itself; with more, each
+    /// wall's share summed over the particles in index order (the shares add up to the total to
+    /// round-off: the total sums every particle's virtual neighbours in one run).
+    pub fn wall_on_fluid_per_wall(&self, total: Vec2, mass: f64) -> Vec<Vec2> {
+        let nw = self.walls.len();
+        if nw <= 1 {
+            return vec![total; nw];
+        }
+        let mut out = vec![Vec2::zeros(); nw];
+        for chunk in self.wall_split.chunks(nw) {
+            for (o, a) in out.iter_mut().zip(chunk) {
+                *o += a * mass;
+            }
+        }
+        out
     }
 
     /// Whether the viscous force goes through Morris' Laplacian (EVSS, or chosen).
@@ -161,7 +204,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
 
     /// Rebuild the neighbour lists (and grow the walls) if any particle or wall moved more than
     /// half the skin since the last build.
-    pub fn refresh_neighbors(&mut self, x: &[Vec2], plates: &mut [Plate]) {
+    pub fn refresh_neighbors(&mut self, x: &[Vec2], plates: &mut [Wall]) {
         let half_skin = 0.5 * SKIN * self.kernel.h();
         let half_skin2 = half_skin * half_skin;
         let dom = self.p.domain;
@@ -170,7 +213,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
             || plates
                 .iter()
                 .zip(&self.built_walls)
-                .any(|(pl, d)| (pl.displacement - d).abs() > half_skin)
+                .any(|(pl, d)| (pl.displacement() - d).abs() > half_skin)
             || x.par_iter()
                 .zip(self.built_x.par_iter())
                 .with_min_len(MIN_TASK_LIGHT)
@@ -200,7 +243,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
             NeighborList::default()
         };
         self.built_x = x.to_vec();
-        self.built_walls = plates.iter().map(|p| p.displacement).collect();
+        self.built_walls = plates.iter().map(|p| p.displacement()).collect();
         let n = self.all_x.len();
         let rho0 = self.p.eos.rho0;
         self.all_v.resize(n, Vec2::zeros());
@@ -258,7 +301,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
 
     /// One rate evaluation at fluid state `fl` with the walls `plates`: fills kappa, drho, acc
     /// (and the wall part).
-    pub fn rates(&mut self, fl: &Fluid, plates: &[Plate]) -> StageReport {
+    pub fn rates(&mut self, fl: &Fluid, plates: &[Wall]) -> StageReport {
         let nf = fl.len();
         self.all_x[..nf].copy_from_slice(&fl.x);
         for (((wall, plate), range), built) in self
@@ -268,7 +311,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
             .zip(&self.wall_ranges)
             .zip(&self.built_walls)
         {
-            if plate.displacement != *built {
+            if plate.displacement() != *built {
                 // A moving plate: its virtual particles follow it at every evaluation, not only
                 // when the lists are rebuilt (the lists, built with a skin, stay valid until it
                 // has moved half the skin).
@@ -395,7 +438,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
     }
 
     /// Positions of the virtual particles of the walls `plates`.
-    pub fn wall_positions(&self, plates: &[Plate]) -> Vec<Vec2> {
+    pub fn wall_positions(&self, plates: &[Wall]) -> Vec<Vec2> {
         self.walls
             .iter()
             .zip(plates)

@@ -405,6 +405,11 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
         let mass = fl.mass;
         self.acc.resize(nf, Vec2::zeros());
         self.wall_acc.resize(nf, Vec2::zeros());
+        // Each wall's virtual particles end at these indices (ascending, wall by wall).
+        let wall_ends: Vec<u32> = self.wall_ranges.iter().map(|r| r.end as u32).collect();
+        let nw = wall_ends.len();
+        self.wall_split
+            .resize(if nw > 1 { nf * nw } else { nf }, Vec2::zeros());
         {
             let p = &self.p;
             let (rec, rec2, amu) = (&self.rec, &self.rec2, &self.all_mu);
@@ -424,11 +429,15 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
                 eta2,
                 l,
             };
-            (&mut self.acc[..], &mut self.wall_acc[..])
+            (
+                &mut self.acc[..],
+                &mut self.wall_acc[..],
+                self.wall_split.par_chunks_mut(if nw > 1 { nw } else { 1 }),
+            )
                 .into_par_iter()
                 .with_min_len(MIN_TASK)
                 .enumerate()
-                .for_each(|(i, (acc_i, wall_i))| {
+                .for_each(|(i, (acc_i, wall_i, split_i))| {
                     let ri = (&rec[i], &rec2[i], amu[i]);
                     let range = pairs.range(nlist, i);
                     let (jj, gg, pp, ff) = (
@@ -484,6 +493,15 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
                     let a = sum(0, split);
                     let aw = sum(split, jj.len());
                     *wall_i = aw * mass;
+                    if nw > 1 {
+                        // Each wall's share on its own (the total above keeps its one run).
+                        let mut from = split;
+                        for (s, &end) in split_i.iter_mut().zip(&wall_ends) {
+                            let to = from + jj[from..].partition_point(|&j| j < end);
+                            *s = sum(from, to) * mass;
+                            from = to;
+                        }
+                    }
                     *acc_i = (a + aw) * mass + p.gravity;
                 });
         }
