@@ -389,7 +389,7 @@ fn document_without_guid() -> String {
     // Outputs: `dependencies=""`, no direct feed-through. An output is the state's at the last
     // communication point, and an input acts only on the steps after it (the plate moves during
     // the next fmi2DoStep), so after fmi2SetReal the outputs stay bitwise what they were until
-    // the next fmi2DoStep (tests/dependencies.rs). Without the attribute a master must assume
+    // the next fmi2DoStep (measured bitwise by a test in src/fmi2/instance/tests.rs). Without the attribute a master must assume
     // every output depends on every input and finds an algebraic loop in any two-way coupling.
     //
     // InitialUnknowns: without `dependencies`, each depends on all knowns, which is the truth
