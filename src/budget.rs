@@ -1,4 +1,4 @@
-//! How much work one request may do: the budget of one [`Simulation::advance_within`] call (the
+//! How much work one request may do: the budget of one [`crate::simulation::Simulation::advance_within`] call (the
 //! FMU's `fmi2DoStep`), and the run-length rule that refuses a run of more than [`MAX_STEPS`]
 //! steps before it starts (the CLI's `viscosph run` and the FMU's `stopTime`).
 //!
@@ -7,7 +7,6 @@
 //! length could not be known in advance (an FMU master with no stop time asking for one step of
 //! 10^9 s, or a time step that collapses during the run), so that no call runs unbounded.
 
-use crate::simulation::Simulation;
 use std::time::{Duration, Instant};
 
 /// Estimated step counts above this are refused (the CLI's `--force` overrides it): at about
@@ -25,7 +24,7 @@ pub struct Budget {
 }
 
 impl Budget {
-    /// No limit: [`Simulation::advance_to`].
+    /// No limit: [`crate::simulation::Simulation::advance_to`].
     pub const UNLIMITED: Budget = Budget {
         max_steps: None,
         max_time: None,
@@ -63,16 +62,6 @@ pub struct RunLength {
 }
 
 impl RunLength {
-    /// The length of a run from `sim`'s state to `t_end`, at the scheme's last stable step
-    /// (`State::last_dt`: take one step first).
-    pub fn of(sim: &Simulation, t_end: f64) -> RunLength {
-        Self::at_step(
-            t_end - sim.state().time,
-            sim.state().last_dt,
-            sim.state().fluid.len(),
-        )
-    }
-
     /// The length of a run of `duration` seconds at time step `dt` with `particles` particles.
     pub fn at_step(duration: f64, dt: f64, particles: usize) -> RunLength {
         let duration = duration.max(0.0);

@@ -336,7 +336,10 @@ pub fn run(
     };
     if first.is_ok() && !opts.force {
         let what = format!("t_end = {} s", opts.t_end);
-        if let Some(refusal) = RunLength::of(&sim, opts.t_end).too_long(&what) {
+        // At the scheme's stable step after the first step (`State::last_dt`).
+        let st = sim.state();
+        let length = RunLength::at_step(opts.t_end - st.time, st.last_dt, st.fluid.len());
+        if let Some(refusal) = length.too_long(&what) {
             return Err(format!(
                 "{refusal}. Check --t-end (the default is t* = 8, {} s), or pass --force to run \
                  it anyway",
