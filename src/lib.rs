@@ -8,6 +8,7 @@
 //! citations are in `docs/references.md`.
 
 pub mod boundary;
+pub mod budget;
 pub mod choice;
 pub mod config;
 pub mod diagnostics;

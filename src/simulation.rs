@@ -16,6 +16,7 @@
 //! solver had already stepped past it, it goes back to the state before that step first.
 
 use crate::boundary::plate::Motion;
+use crate::budget::Budget;
 use crate::config::ConfigError;
 use crate::diagnostics::pressure_roughness;
 use crate::kernel::CubicSpline;
@@ -41,6 +42,10 @@ pub enum SimError {
     State(String),
     #[error("interrupted at t = {time:.6e} s (step {step})")]
     Interrupted { time: f64, step: u64 },
+    /// [`Simulation::advance_within`] stopped before a step that would have gone over its
+    /// [`Budget`]; the state is the last step's, as after an interruption.
+    #[error("stopped at t = {time:.6e} s (step {step}) after {spent}, the budget of one call")]
+    OverBudget { time: f64, step: u64, spent: String },
 }
 
 /// What a saved state holds besides the configuration (see [`Simulation::save_state`]).
@@ -245,6 +250,9 @@ impl Simulation {
             // before it and land exactly on t_comm.
             if let Some(before) = self.rewind.take() {
                 self.state = before;
+                // The scheme's neighbour lists and wall particles belong to the state after
+                // the step (walls grow as the fluid spreads): start them afresh.
+                self.scheme = self.fresh_scheme();
             }
             self.exact = true;
             let t = self.t_comm;
@@ -283,6 +291,13 @@ impl Simulation {
     /// Advance to `t_end`. On a breakdown the state is left at the last good step and the error
     /// names the time, the step and the cause.
     pub fn advance_to(&mut self, t_end: f64) -> Result<(), SimError> {
+        self.advance_within(t_end, &Budget::UNLIMITED)
+    }
+
+    /// [`Simulation::advance_to`] within `budget`: before a step that would go over it, stop
+    /// with [`SimError::OverBudget`], the state at the last step taken and the communication
+    /// time moved to it (as after an interruption), so a later call goes on from there.
+    pub fn advance_within(&mut self, t_end: f64, budget: &Budget) -> Result<(), SimError> {
         if !t_end.is_finite() || t_end < self.t_comm {
             return Err(SimError::Request(format!(
                 "cannot advance from t = {} s to t = {t_end} s",
@@ -290,27 +305,34 @@ impl Simulation {
             )));
         }
         let pool = Arc::clone(&self.pool);
-        pool.install(|| self.advance_in_pool(t_end))
+        pool.install(|| self.advance_in_pool(t_end, budget))
     }
 
-    fn advance_in_pool(&mut self, t_end: f64) -> Result<(), SimError> {
+    fn advance_in_pool(&mut self, t_end: f64, budget: &Budget) -> Result<(), SimError> {
         let mut last_before: Option<State> = None;
+        let (started, mut taken) = (std::time::Instant::now(), 0u64);
         while self.state.time < t_end {
-            if self
+            let (time, step) = (self.state.time, self.state.step);
+            let stop = if self
                 .stop
                 .as_ref()
                 .is_some_and(|f| f.load(Ordering::Relaxed))
             {
+                Some(SimError::Interrupted { time, step })
+            } else {
+                budget
+                    .exceeded(taken, started)
+                    .map(|spent| SimError::OverBudget { time, step, spent })
+            };
+            if let Some(err) = stop {
                 self.t_comm = self.t_comm.max(self.state.time);
                 if let Some(b) = last_before {
                     self.prev = Some((b.time, self.scene.outputs(&b, &self.eff)));
                 }
                 self.rewind = None;
-                return Err(SimError::Interrupted {
-                    time: self.state.time,
-                    step: self.state.step,
-                });
+                return Err(err);
             }
+            taken += 1;
             let before = self.state.clone();
             let max_dt = if self.exact {
                 t_end - self.state.time
@@ -446,17 +468,11 @@ impl Simulation {
             thread_pool(&cfg)?
         };
         let mut sim = Self::with_pool(cfg, pool)?;
-        sim.scheme = crate::scheme::build(
-            sim.eff.scheme,
-            &sim.eff.fluid,
-            &sim.eff.numerics,
-            sim.params.clone(),
-            &saved.state.walls,
-        );
+        sim.state = saved.state;
+        sim.scheme = sim.fresh_scheme();
         sim.eff
             .apply_inputs(&saved.inputs)
             .map_err(|e| SimError::State(e.to_string()))?;
-        sim.state = saved.state;
         sim.t_comm = saved.t_comm;
         sim.prev = saved.prev;
         sim.exact = saved.exact;
@@ -464,6 +480,18 @@ impl Simulation {
         sim.stop = self.stop.take();
         *self = sim;
         Ok(())
+    }
+
+    /// A scheme built for the current state's walls, with no caches: for a state that replaced
+    /// the one the scheme stepped (restored, or rewound by an input change).
+    fn fresh_scheme(&self) -> Box<dyn Scheme> {
+        crate::scheme::build(
+            self.eff.scheme,
+            &self.eff.fluid,
+            &self.eff.numerics,
+            self.params.clone(),
+            &self.state.walls,
+        )
     }
 
     /// Back to the initial state of the same configuration (same thread pool).

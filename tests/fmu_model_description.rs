@@ -246,6 +246,69 @@ fn every_variable_matches_the_tables() {
     }
 }
 
+/// FMI 2.0 section 2.2.8, read from the parsed XML: every output is listed once under Outputs
+/// with `dependencies=""` (no output depends directly on an input: an input acts on the steps
+/// after it, see the instance's test of bitwise unchanged outputs after fmi2SetReal), and
+/// InitialUnknowns lists exactly the variables the standard requires there (outputs with
+/// initial "approx" or "calculated", calculated parameters; no states in Co-Simulation), in
+/// ascending index order, without a `dependencies` attribute (each depends on all knowns: the
+/// initial state is built from the parameters and the inputs' start values).
+#[test]
+fn model_structure_declares_no_direct_feed_through() {
+    let text = committed();
+    let doc = Document::parse(&text).expect("well-formed XML");
+    let root = doc.root_element();
+    let vars: Vec<Node> = elements(child(root, "ModelVariables"), "ScalarVariable").collect();
+    let index_of = |u: Node| -> usize {
+        let i: usize = attr(u, "index").parse().expect("an index");
+        assert!((1..=vars.len()).contains(&i), "index {i}");
+        i
+    };
+    let with = |pred: &dyn Fn(Node) -> bool| -> Vec<usize> {
+        vars.iter()
+            .enumerate()
+            .filter(|(_, v)| pred(**v))
+            .map(|(k, _)| k + 1)
+            .collect()
+    };
+    let outputs = with(&|v| attr(v, "causality") == "output");
+    assert_eq!(outputs.len(), OUTPUTS.len());
+    let ms = child(root, "ModelStructure");
+
+    let listed: Vec<Node> = elements(child(ms, "Outputs"), "Unknown").collect();
+    assert_eq!(
+        listed.iter().map(|u| index_of(*u)).collect::<Vec<_>>(),
+        outputs,
+        "Outputs lists every output once, in index order"
+    );
+    for u in &listed {
+        assert_eq!(
+            u.attribute("dependencies"),
+            Some(""),
+            "output {} declares no direct dependency",
+            attr(vars[index_of(*u) - 1], "name")
+        );
+        assert!(u.attribute("dependenciesKind").is_none());
+    }
+
+    let initial = with(&|v| {
+        let calculated = matches!(v.attribute("initial"), Some("approx" | "calculated"));
+        match attr(v, "causality") {
+            "output" => calculated || v.attribute("initial").is_none(),
+            "calculatedParameter" => true,
+            _ => false,
+        }
+    });
+    let listed: Vec<Node> = elements(child(ms, "InitialUnknowns"), "Unknown").collect();
+    assert_eq!(
+        listed.iter().map(|u| index_of(*u)).collect::<Vec<_>>(),
+        initial
+    );
+    assert!(listed.iter().all(|u| u.attribute("dependencies").is_none()));
+    // Co-Simulation without continuous states: no Derivatives.
+    assert!(ms.children().all(|c| !c.has_tag_name("Derivatives")));
+}
+
 /// The parameter `drop_height` of early scene files is `initial_drop_height` in the FMU (the
 /// name `drop_height` belongs to an output, and FMU names are unique); both names set it.
 #[test]

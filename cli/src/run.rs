@@ -4,6 +4,7 @@ use crate::io::{csv, plot, vtk};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
+use viscosph::budget::RunLength;
 use viscosph::scene::{time_text, Outputs, Predictions, TimePlot};
 use viscosph::simulation::{SimError, Simulation};
 use viscosph::{SceneConfig, Vec2};
@@ -23,9 +24,9 @@ pub struct RunOptions {
     pub stop: Option<Arc<AtomicBool>>,
 }
 
-/// Estimated step counts above this are refused without `force`: at about 10^4 steps per
-/// second for the default drop, 10^8 steps are days of computing, almost surely a typo.
-pub const MAX_STEPS: f64 = 1.0e8;
+/// Estimated step counts above this are refused without `force` (the library's rule, shared
+/// with the FMU's `stopTime`).
+pub use viscosph::budget::MAX_STEPS;
 
 /// The files a run writes into its output folder: those of an earlier run there are removed
 /// first (and nothing else), so the folder never mixes two runs' snapshots.
@@ -297,11 +298,6 @@ fn write_vtk(dir: &Path, k: usize, sim: &Simulation) -> Result<(), FileError> {
     )
 }
 
-/// The number of steps a run to `t_end` would take at the scheme's current stable step.
-pub fn estimated_steps(sim: &Simulation, t_end: f64) -> f64 {
-    (t_end - sim.state().time).max(0.0) / sim.state().last_dt.max(1e-300)
-}
-
 /// Advance to `t`; the simulation checks the stop flag (see `Simulation::set_stop_flag`) before
 /// every step. Returns whether it stopped early.
 fn advance_watching(sim: &mut Simulation, t: f64) -> Result<bool, SimError> {
@@ -338,17 +334,15 @@ pub fn run(
     } else {
         Ok(())
     };
-    if first.is_ok() {
-        let steps = estimated_steps(&sim, opts.t_end);
-        if steps > MAX_STEPS && !opts.force {
-            let secs = steps * sim.state().fluid.len() as f64 / 1.0e6;
+    if first.is_ok() && !opts.force {
+        let what = format!("t_end = {} s", opts.t_end);
+        // At the scheme's stable step after the first step (`State::last_dt`).
+        let st = sim.state();
+        let length = RunLength::at_step(opts.t_end - st.time, st.last_dt, st.fluid.len());
+        if let Some(refusal) = length.too_long(&what) {
             return Err(format!(
-                "t_end = {} s would take about {steps:.2e} steps (time step {:.3e} s), more than \
-                 {MAX_STEPS:.0e}: about {:.0} hours at 10^6 particle-steps/s. Check --t-end (the \
-                 default is t* = 8, {} s), or pass --force to run it anyway",
-                opts.t_end,
-                sim.state().last_dt,
-                secs / 3600.0,
+                "{refusal}. Check --t-end (the default is t* = 8, {} s), or pass --force to run \
+                 it anyway",
                 8.0 * ts
             )
             .into());

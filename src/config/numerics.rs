@@ -152,6 +152,10 @@ crate::params! {
             "Equation of state relating pressure to density. Ignored under isph",
         fracture_void_fraction: f64 = real(0.02, 0.0, 1.0), vr 32, unit "1";
             "Health: fraction of the fluid's area torn open into holes beyond which the run stops with a tensile-instability fracture (0 = never check)",
+        max_steps_per_do_step: i64 = integer(1_000_000, 1, i32::MAX as i64), vr 33, unit "";
+            "FMU: most solver steps one fmi2DoStep may take; past it the call ends in fmi2Discard at the last step reached (fmi2LastSuccessfulTime), which fmi2GetFMUstate/fmi2SetFMUstate continue from. Bounds every call whatever the step size. The CLI bounds a run by its 10^8-step estimate and Ctrl-C instead",
+        max_seconds_per_do_step: f64 = real(0.0, 0.0, 1.0e6), vr 34, unit "s";
+            "FMU: most wall-clock seconds one fmi2DoStep may take, checked before every solver step, ending like max_steps_per_do_step; 0 = no wall-clock limit. A result then depends on the machine's speed, hence off by default",
         threads: i64 = integer(0, 0, 1024), vr 40, unit "";
             "Worker threads of this simulation's own thread pool; 0 = the RAYON_NUM_THREADS environment variable, else one per core. Results do not depend on it",
         viscous_operator: ViscousOperator = enumeration::<ViscousOperator>("ViscousOperator", "auto"), vr 44, unit "";

@@ -383,12 +383,22 @@ fn document_without_guid() -> String {
     let _ = writeln!(w, "  </ModelVariables>");
 
     // FMI 2.0 section 2.2.8: every output is listed under Outputs, and, being initial =
-    // "calculated", under InitialUnknowns. Without `dependencies` an unknown may depend on all
-    // knowns (here: the parameters), which is the truth.
+    // "calculated", under InitialUnknowns (nothing else is: the other variables are parameters
+    // with initial = "exact" and inputs).
+    //
+    // Outputs: `dependencies=""`, no direct feed-through. An output is the state's at the last
+    // communication point, and an input acts only on the steps after it (the plate moves during
+    // the next fmi2DoStep), so after fmi2SetReal the outputs stay bitwise what they were until
+    // the next fmi2DoStep (measured bitwise by a test in src/fmi2/instance/tests.rs). Without the attribute a master must assume
+    // every output depends on every input and finds an algebraic loop in any two-way coupling.
+    //
+    // InitialUnknowns: without `dependencies`, each depends on all knowns, which is the truth
+    // (the initial state is built from the parameters, and a scene may build it from an input's
+    // start value, e.g. the jet's inflow speed).
     let _ = writeln!(w, "  <ModelStructure>");
     let _ = writeln!(w, "    <Outputs>");
     for i in first_output..=last_output {
-        let _ = writeln!(w, r#"      <Unknown index="{i}"/>"#);
+        let _ = writeln!(w, r#"      <Unknown index="{i}" dependencies=""/>"#);
     }
     let _ = writeln!(w, "    </Outputs>");
     let _ = writeln!(w, "    <InitialUnknowns>");

@@ -190,10 +190,61 @@ def test_a_numerical_breakdown_is_a_discard_with_time_and_cause(fmu, unzipdir):
     last = s.fmu.getRealStatus(LAST_SUCCESSFUL_TIME)
     assert last == pytest.approx(t_end)
     assert np.isfinite(s.outputs()).all()
-    state = s.fmu.getFMUstate()
+    state = s.fmu.getFMUstate()  # the last good state, a completed step at `last`
     with pytest.raises(FMICallException):
         s.fmu.doStep(s.t, 1e-3)  # StepFailed: no further steps
-    s.fmu.setFMUstate(state)  # back to StepFailed at the last good state
+    s.fmu.setFMUstate(state)
+    assert s.fmu.getRealStatus(LAST_SUCCESSFUL_TIME) == last
+    assert not s.fmu.getBooleanStatus(TERMINATED)
+    with pytest.raises(FMICallException) as e:
+        s.fmu.doStep(last, 1e-3)  # stepping again from there: the same inputs break again
+    assert e.value.status == DISCARD
     assert s.fmu.getRealStatus(LAST_SUCCESSFUL_TIME) == last
     s.fmu.terminate()
+    s.free()
+
+
+def test_a_step_past_its_budget_is_a_discard_and_the_master_goes_on(unzipdir):
+    s = Slave(unzipdir).initialize(integers={"particles_per_diameter": 12,
+                                             "max_steps_per_do_step": 5})
+    t, discards = 0.0, 0
+    while t < 0.004:
+        try:
+            s.fmu.doStep(t, 0.004 - t)
+            t = 0.004
+        except FMICallException as e:
+            assert e.status == DISCARD
+            msg = s.log.messages(DISCARD)[-1]
+            assert "max_steps_per_do_step" in msg and "5 solver steps" in msg, msg
+            assert not s.fmu.getBooleanStatus(TERMINATED)
+            reached = s.fmu.getRealStatus(LAST_SUCCESSFUL_TIME)
+            assert t < reached < 0.004
+            s.fmu.setFMUstate(s.fmu.getFMUstate())
+            t, discards = reached, discards + 1
+    assert discards >= 2
+    assert np.isfinite(s.outputs()).all()
+    s.free()
+
+
+def test_a_stop_time_of_too_many_steps_is_refused_with_the_estimate(fmu):
+    log = Log()
+    with pytest.raises(FMICallException) as e:
+        simulate(fmu, {"particles_per_diameter": 8}, stop_time=1e9, step=1e8, logger=log)
+    assert e.value.status == ERROR
+    msg = log.messages(ERROR)[0]
+    assert "fmi2ExitInitializationMode" in msg and "stopTime" in msg, msg
+    assert "would take about" in msg and "more than 1e8" in msg, msg
+
+
+def test_an_infinite_step_must_be_finite_and_later_calls_name_the_error_state(unzipdir):
+    s = Slave(unzipdir).initialize(integers={"particles_per_diameter": 8})
+    with pytest.raises(FMICallException) as e:
+        s.fmu.doStep(0.0, math.inf)
+    assert e.value.status == ERROR
+    assert "must be finite" in s.log.messages(ERROR)[-1]
+    with pytest.raises(FMICallException):
+        s.fmu.doStep(0.0, 1e-3)
+    msg = s.log.messages(ERROR)[-1]
+    assert "state Error" in msg and "fmi2DoStep returned fmi2Error" in msg, msg
+    assert "Terminated" not in msg, msg
     s.free()

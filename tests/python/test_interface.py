@@ -16,6 +16,16 @@ def test_validate_fmu_reports_no_problems(fmu):
     assert validate_fmu(fmu) == []
 
 
+def test_no_output_depends_directly_on_an_input(md):
+    # ModelStructure/Outputs with dependencies="": a master that reads it (OMSimulator) finds
+    # no algebraic loop in a two-way coupling. fmpy reads "" as an empty list.
+    outputs = [v for v in md.modelVariables if v.causality == "output"]
+    assert [u.variable for u in md.outputs] == outputs
+    assert all(u.dependencies == [] for u in md.outputs)
+    # InitialUnknowns: every output (initial = "calculated"), depending on all knowns.
+    assert [u.variable for u in md.initialUnknowns] == outputs
+
+
 def test_archive_holds_description_binary_and_documentation(fmu):
     names = set(zipfile.ZipFile(fmu).namelist())
     assert {"modelDescription.xml", "binaries/linux64/ViscoSPH.so",

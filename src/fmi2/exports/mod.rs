@@ -24,6 +24,8 @@ use std::ffi::{CStr, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::ptr;
 
+#[cfg(test)]
+mod call_sequences;
 mod fmu_state;
 #[cfg(test)]
 mod tests;

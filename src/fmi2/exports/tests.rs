@@ -89,7 +89,7 @@ fn exports_match_the_header_signatures() {
 }
 
 /// Callbacks with `fmi-sys`'s C-variadic logger (it formats and forwards to the `log` crate).
-fn callbacks() -> fmi2CallbackFunctions {
+pub(super) fn callbacks() -> fmi2CallbackFunctions {
     let logger: unsafe extern "C" fn(
         h::fmi2ComponentEnvironment,
         h::fmi2String,

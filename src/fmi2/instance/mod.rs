@@ -7,10 +7,15 @@
 //! call is allowed (FMI 2.0 section 4.2.4, the Co-Simulation state machine, with the masks of the
 //! Reference-FMUs' `fmi2Functions.c`). A call that answers `fmi2Error` - an illegal call
 //! sequence, a refused value, a failed initialization - logs why and moves the instance to
-//! [`Phase::Terminated`], which stands for the standard's *error* state: from there only the
-//! getters, `fmi2GetFMUstate`/`fmi2SetFMUstate`, `fmi2Reset` and `fmi2FreeInstance` are accepted
-//! (FMI 2.0 section 2.1.3, `fmi2Error`: "the simulation cannot be continued with this FMU
-//! instance"; `fmi2Reset` or `fmi2SetFMUstate` recover it).
+//! [`Phase::Error`], the standard's *error* state, which remembers the call and the reason that
+//! put it there for the messages of later calls: from there only the getters,
+//! `fmi2GetFMUstate`/`fmi2SetFMUstate`, `fmi2Reset` and `fmi2FreeInstance` are accepted (FMI 2.0
+//! section 2.1.3, `fmi2Error`: "the simulation cannot be continued with this FMU instance";
+//! `fmi2Reset` or `fmi2SetFMUstate` recover it).
+//!
+//! Every call is bounded: `fmi2DoStep` runs within the step budget `max_steps_per_do_step` (and
+//! `max_seconds_per_do_step`), and a stop time or a communication step whose estimated step
+//! count breaks the run-length rule of [`crate::budget`] is refused before any work.
 
 mod state;
 #[cfg(test)]
@@ -19,11 +24,13 @@ mod variables;
 
 pub use state::Snapshot;
 
-use super::model_description::{guid, LOG_CATEGORIES};
+use super::model_description::{guid, DEFAULT_STOP_TIME, LOG_CATEGORIES};
 use super::types::Status;
+use crate::budget::{Budget, RunLength};
 use crate::scene::{Outputs, SceneConfig, OUTPUTS};
 use crate::simulation::{SimError, Simulation};
 use serde::{Deserialize, Serialize};
+use std::time::Duration;
 
 /// Where an instance is in the Co-Simulation state machine (FMI 2.0 figure in section 4.2.4).
 /// `StepInProgress` and `StepCanceled` do not exist here because `fmi2DoStep` is synchronous.
@@ -33,17 +40,20 @@ pub enum Phase {
     InitializationMode,
     StepComplete,
     StepFailed,
-    /// After `fmi2Terminate`, and the error state after any `fmi2Error`.
+    /// After `fmi2Terminate`.
     Terminated,
+    /// The standard's error state, after any `fmi2Error` (FMI 2.0 section 2.1.3).
+    Error,
 }
 
 impl Phase {
-    const ALL: [Phase; 5] = [
+    const ALL: [Phase; 6] = [
         Phase::Instantiated,
         Phase::InitializationMode,
         Phase::StepComplete,
         Phase::StepFailed,
         Phase::Terminated,
+        Phase::Error,
     ];
 
     fn bit(self) -> u8 {
@@ -57,6 +67,7 @@ impl Phase {
             Phase::StepComplete => "StepComplete",
             Phase::StepFailed => "StepFailed",
             Phase::Terminated => "Terminated",
+            Phase::Error => "Error",
         }
     }
 }
@@ -68,12 +79,17 @@ mod mask {
     const fn b(p: super::Phase) -> u8 {
         1 << (p as u8)
     }
-    pub const ANY: u8 =
-        b(Instantiated) | b(InitializationMode) | b(StepComplete) | b(StepFailed) | b(Terminated);
+    pub const ANY: u8 = b(Instantiated)
+        | b(InitializationMode)
+        | b(StepComplete)
+        | b(StepFailed)
+        | b(Terminated)
+        | b(Error);
     pub const SETUP: u8 = b(Instantiated);
     pub const EXIT_INIT: u8 = b(InitializationMode);
     pub const TERMINATE: u8 = b(StepComplete) | b(StepFailed);
-    pub const GET: u8 = b(InitializationMode) | b(StepComplete) | b(StepFailed) | b(Terminated);
+    pub const GET: u8 =
+        b(InitializationMode) | b(StepComplete) | b(StepFailed) | b(Terminated) | b(Error);
     /// Every parameter has variability "fixed": settable only before the end of initialization
     /// (FMI 2.0 section 2.2.7, table of `fmi2SetXXX` per causality and variability).
     pub const SET: u8 = b(Instantiated) | b(InitializationMode);
@@ -81,7 +97,7 @@ mod mask {
     /// (FMI 2.0 section 4.2.4); a fixed parameter is refused there value by value.
     pub const SET_OR_INPUT: u8 = SET | b(StepComplete);
     pub const DO_STEP: u8 = b(StepComplete);
-    pub const STATUS: u8 = b(StepComplete) | b(StepFailed) | b(Terminated);
+    pub const STATUS: u8 = b(StepComplete) | b(StepFailed) | b(Terminated) | b(Error);
     pub const NEVER: u8 = 0;
 }
 
@@ -141,6 +157,15 @@ pub struct Instance {
     last_successful_time: f64,
     /// Set after a breakdown: the slave cannot go on (`fmi2Terminated` status).
     wants_to_terminate: bool,
+    /// In [`Phase::StepFailed`]: whether the simulation holds the last good state, at
+    /// `last_successful_time`, so that an FMU state taken now continues from there (see
+    /// [`Instance::get_state`]).
+    resumable: bool,
+    /// The scheme's first stable time step, from a one-step probe at
+    /// `fmi2ExitInitializationMode`, for the run-length rule before the first step.
+    first_dt: Option<f64>,
+    /// In [`Phase::Error`]: the call that answered `fmi2Error` and why.
+    error_cause: Option<String>,
 }
 
 impl Instance {
@@ -166,6 +191,9 @@ impl Instance {
             t_comm: 0.0,
             last_successful_time: 0.0,
             wants_to_terminate: false,
+            resumable: false,
+            first_dt: None,
+            error_cause: None,
         }
     }
 
@@ -177,6 +205,15 @@ impl Instance {
     }
     pub fn config(&self) -> &SceneConfig {
         &self.cfg
+    }
+    /// In [`Phase::Error`]: the call that answered `fmi2Error` first, and why.
+    pub fn error_cause(&self) -> Option<&str> {
+        self.error_cause.as_deref()
+    }
+    /// After a discarded `fmi2DoStep`: whether the simulation holds the last good state, which
+    /// `fmi2GetFMUstate` then saves as a completed step (see [`Instance::get_state`]).
+    pub fn resumable(&self) -> bool {
+        self.phase == Phase::StepFailed && self.resumable
     }
 
     /// Log `message` under `category` if that category is enabled.
@@ -200,17 +237,20 @@ impl Instance {
                 Status::Discard
             }
             Fail::Error(m) => {
-                let suffix = if self.phase == Phase::Terminated {
+                let suffix = if self.phase == Phase::Error {
                     ""
                 } else {
-                    " [the instance is now in the error state; fmi2Reset, fmi2SetFMUstate or fmi2FreeInstance continue]"
+                    " [the instance is now in the Error state; fmi2Reset, fmi2SetFMUstate or fmi2FreeInstance continue]"
                 };
                 self.log(
                     Category::Error,
                     Status::Error,
                     &format!("{func}: {m}{suffix}"),
                 );
-                self.phase = Phase::Terminated;
+                if self.phase != Phase::Error {
+                    self.error_cause = Some(format!("{func} returned fmi2Error: {m}"));
+                }
+                self.phase = Phase::Error;
                 Status::Error
             }
         }
@@ -231,7 +271,7 @@ impl Instance {
     ) -> Status {
         self.trace(func, args);
         if self.phase.bit() & allowed == 0 {
-            let msg = illegal_sequence(func, allowed, self.phase);
+            let msg = illegal_sequence(func, allowed, self.phase, self.error_cause.as_deref());
             return self.fail(func, Fail::Error(msg));
         }
         match body(self) {
@@ -335,11 +375,25 @@ impl Instance {
                     return error(format!("the initial state has a non-finite output '{bad}'"));
                 }
                 let n = sim.state().fluid.len();
+                s.first_dt = first_time_step(&s.cfg)?;
+                if let (Some(stop), Some(dt)) = (s.stop_time, s.first_dt) {
+                    let what = format!(
+                        "stopTime - startTime = {stop} s - {} s = {} s",
+                        s.start_time,
+                        stop - s.start_time
+                    );
+                    if let Some(refusal) = RunLength::at_step(stop - s.start_time, dt, n).too_long(&what) {
+                        return error(format!(
+                            "{refusal}. Check the stopTime given to fmi2SetupExperiment (the default experiment stops at {DEFAULT_STOP_TIME} s)"
+                        ));
+                    }
+                }
                 s.outputs = outputs;
                 s.sim = Some(sim);
                 s.t_comm = s.start_time;
                 s.last_successful_time = s.start_time;
                 s.wants_to_terminate = false;
+                s.resumable = false;
                 s.phase = Phase::StepComplete;
                 s.log(
                     Category::Events,
@@ -386,6 +440,9 @@ impl Instance {
             s.t_comm = 0.0;
             s.last_successful_time = 0.0;
             s.wants_to_terminate = false;
+            s.resumable = false;
+            s.first_dt = None;
+            s.error_cause = None;
             s.log(
                 Category::Events,
                 Status::Ok,
@@ -399,16 +456,23 @@ impl Instance {
     /// scheme's own adaptive sub-steps, so the outputs at a communication point do not depend
     /// on the communication step size beyond the shortened last sub-step.
     ///
-    /// A numerical breakdown answers `fmi2Discard`: the simulation stays at its last good
-    /// sub-step, the outputs are those of that state, `fmi2LastSuccessfulTime` is its time, and
-    /// `fmi2Terminated` becomes true because a smaller communication step would not help.
+    /// Bounded: a step whose estimated step count breaks the run-length rule is discarded before
+    /// any work, and the sub-steps run within the budget `max_steps_per_do_step` /
+    /// `max_seconds_per_do_step`. Past the budget, or at a numerical breakdown, the call answers
+    /// `fmi2Discard` with the simulation at its last good sub-step: the outputs are those of that
+    /// state, `fmi2LastSuccessfulTime` is its time, and an FMU state taken now continues from
+    /// there once set ([`Instance::get_state`]). After a breakdown `fmi2Terminated` becomes true
+    /// as well, because a smaller communication step would not help.
     pub fn do_step(&mut self, t: f64, h: f64) -> Status {
         self.call(
             "fmi2DoStep",
             mask::DO_STEP,
             || format!("currentCommunicationPoint={t}, communicationStepSize={h}"),
             |s| {
-                if !(h.is_finite() && h > 0.0) {
+                if !h.is_finite() {
+                    return error(format!("communicationStepSize = {h} must be finite"));
+                }
+                if h <= 0.0 {
                     return error(format!("communicationStepSize = {h} must be > 0"));
                 }
                 let tol = 1e-9 * s.t_comm.abs().max(1.0);
@@ -427,13 +491,28 @@ impl Instance {
                     }
                 }
                 let start = s.start_time;
+                let budget = s.budget();
                 let sim = s.sim.as_mut().expect("a simulation exists in StepComplete");
-                match sim.advance_to(target - start) {
+                let dt = Some(sim.state().last_dt).filter(|&dt| dt > 0.0).or(s.first_dt);
+                if let Some(dt) = dt {
+                    let what = format!("communicationStepSize = {h} s");
+                    let length = RunLength::at_step(target - start - sim.time(), dt, sim.state().fluid.len());
+                    if let Some(refusal) = length.too_long(&what) {
+                        s.phase = Phase::StepFailed;
+                        s.resumable = true;
+                        return Err(Fail::Discard(format!(
+                            "{refusal}; nothing was computed (the outputs and fmi2LastSuccessfulTime stay at t = {t} s). \
+                             Use smaller communication steps"
+                        )));
+                    }
+                }
+                match sim.advance_within(target - start, &budget) {
                     Ok(()) => {
                         let outputs = sim.outputs();
                         if let Some(bad) = non_finite(&outputs) {
                             s.phase = Phase::StepFailed;
                             s.wants_to_terminate = true;
+                            s.resumable = false;
                             return Err(Fail::Discard(format!(
                                 "output '{bad}' became non-finite in the step from t = {t} s to {target} s; \
                                  the outputs keep their values at t = {t} s"
@@ -444,18 +523,27 @@ impl Instance {
                         s.last_successful_time = target;
                         Ok(Status::Ok)
                     }
-                    Err(e @ SimError::Breakdown { .. }) => {
+                    Err(e @ (SimError::Breakdown { .. } | SimError::OverBudget { .. })) => {
                         let reached = start + sim.time();
                         let outputs = sim.outputs();
-                        if non_finite(&outputs).is_none() {
+                        s.resumable = non_finite(&outputs).is_none();
+                        if s.resumable {
                             s.outputs = outputs;
                             s.last_successful_time = reached;
                         }
                         s.phase = Phase::StepFailed;
-                        s.wants_to_terminate = true;
+                        let over_budget = matches!(e, SimError::OverBudget { .. });
+                        s.wants_to_terminate = !over_budget;
+                        let advice = if over_budget {
+                            "that is the budget max_steps_per_do_step / max_seconds_per_do_step of one fmi2DoStep: \
+                             raise it or use smaller communication steps"
+                        } else {
+                            "the slave cannot continue with these inputs (fmi2Terminated)"
+                        };
                         Err(Fail::Discard(format!(
-                            "{e}. The outputs hold the last good state, at t = {} s \
-                             (fmi2LastSuccessfulTime); the slave cannot continue (fmi2Terminated)",
+                            "{e}; {advice}. The outputs hold the last good state, at t = {} s \
+                             (fmi2LastSuccessfulTime); fmi2GetFMUstate now saves it, and fmi2SetFMUstate of that \
+                             state continues from there",
                             s.last_successful_time
                         )))
                     }
@@ -463,6 +551,16 @@ impl Instance {
                 }
             },
         )
+    }
+
+    /// The budget of one `fmi2DoStep`, from the parameters.
+    fn budget(&self) -> Budget {
+        let n = &self.cfg.numerics;
+        Budget {
+            max_steps: Some(n.max_steps_per_do_step.max(1) as u64),
+            max_time: (n.max_seconds_per_do_step > 0.0)
+                .then(|| Duration::from_secs_f64(n.max_seconds_per_do_step)),
+        }
     }
 
     /// `fmi2GetStatus`: only meaningful after `fmi2Pending`, which this synchronous slave never
@@ -535,7 +633,7 @@ fn non_finite(o: &Outputs) -> Option<&'static str> {
 
 /// "fmi2DoStep is not allowed in state Instantiated (allowed in: StepComplete)" with a hint of
 /// what to call first.
-fn illegal_sequence(func: &str, allowed: u8, phase: Phase) -> String {
+fn illegal_sequence(func: &str, allowed: u8, phase: Phase, cause: Option<&str>) -> String {
     let names: Vec<&str> = Phase::ALL
         .iter()
         .filter(|p| p.bit() & allowed != 0)
@@ -553,13 +651,29 @@ fn illegal_sequence(func: &str, allowed: u8, phase: Phase) -> String {
         }
         _ => "",
     };
+    let why = match (phase, cause) {
+        (Phase::Error, Some(c)) => format!(
+            " (the instance is in the Error state since {c}; fmi2Reset or fmi2SetFMUstate continue)"
+        ),
+        _ => String::new(),
+    };
     if allowed == mask::NEVER {
         format!("{func} is never allowed by this FMU")
     } else {
         format!(
-            "illegal call sequence: {func} is not allowed in state {} (allowed in: {}){hint}",
+            "illegal call sequence: {func} is not allowed in state {}{why} (allowed in: {}){hint}",
             phase.name(),
             names.join(", ")
         )
     }
+}
+
+/// The scheme's first stable time step for `cfg`: one step of a separate simulation, so that the
+/// instance's own trajectory is not touched (the CLI takes this step on its run, whose outputs
+/// are never read at t = 0 afterwards).
+/// `None` if that step breaks down: the run's own first `fmi2DoStep` then reports it.
+fn first_time_step(cfg: &SceneConfig) -> Answer<Option<f64>> {
+    let mut probe = Simulation::new(cfg.clone()).map_err(|e| Fail::Error(e.to_string()))?;
+    let stepped = probe.advance_to(f64::MIN_POSITIVE).is_ok();
+    Ok(Some(probe.state().last_dt).filter(|&dt| stepped && dt > 0.0))
 }

@@ -54,18 +54,28 @@ const SNAPSHOT_TAG: &[u8] = b"ViscoSPH FMU state v1\n";
 
 impl Instance {
     /// `fmi2GetFMUstate`: a snapshot of everything that evolves.
+    ///
+    /// After an `fmi2DoStep` that was discarded with the simulation at its last good sub-step
+    /// (the budget, a breakdown, a refused step size), the snapshot is that last good state, a
+    /// completed step at `fmi2LastSuccessfulTime`: setting it lets the master go on from there
+    /// (FMI 2.0 section 4.2.2 expects a master to redo a discarded step from a saved state).
     pub fn get_state(&mut self, out: &mut Option<Snapshot>) -> Status {
         self.call("fmi2GetFMUstate", mask::ANY, String::new, |s| {
+            let resume = s.phase == Phase::StepFailed && s.resumable;
             *out = Some(Snapshot {
                 guid: guid(),
-                phase: s.phase,
+                phase: if resume { Phase::StepComplete } else { s.phase },
                 cfg: s.cfg.clone(),
                 sim: s.sim.as_ref().map(|m| m.save_state()),
                 start_time: s.start_time,
                 stop_time: s.stop_time,
-                t_comm: s.t_comm,
+                t_comm: if resume {
+                    s.last_successful_time
+                } else {
+                    s.t_comm
+                },
                 last_successful_time: s.last_successful_time,
-                wants_to_terminate: s.wants_to_terminate,
+                wants_to_terminate: s.wants_to_terminate && !resume,
                 outputs: s.outputs,
             });
             Ok(Status::Ok)
@@ -104,6 +114,10 @@ impl Instance {
             s.last_successful_time = snap.last_successful_time;
             s.wants_to_terminate = snap.wants_to_terminate;
             s.outputs = snap.outputs;
+            s.resumable = false;
+            s.first_dt = None;
+            s.error_cause = (s.phase == Phase::Error)
+                .then(|| "fmi2SetFMUstate restored a state taken in the Error state".to_string());
             s.log(
                 Category::Events,
                 Status::Ok,
