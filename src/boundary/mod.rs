@@ -87,7 +87,7 @@ pub fn resolve(choice: WallBoundary, paper: Model, wall: &Wall) -> Result<Model,
     }
     if matches!(model, Model::Image | Model::Ghost) && !wall.is_straight() {
         return Err(format!(
-            "{name}: image and ghost particles are built along a straight wall, and this scene              has a curved one (use dummy or auto)"
+            "{name}: image and ghost particles are built along a straight wall, and this scene has a curved one (use dummy or auto)"
         ));
     }
     Ok(model)
