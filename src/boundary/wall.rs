@@ -125,4 +125,10 @@ impl Shape<2> for Wall {
             Wall::Circle(c) => c.ball.reflect(x),
         }
     }
+    fn reflection_jacobian(&self, x: &Vec2) -> f64 {
+        match self {
+            Wall::Straight(_) => 1.0,
+            Wall::Circle(c) => c.ball.reflection_jacobian(x),
+        }
+    }
 }

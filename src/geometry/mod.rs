@@ -50,6 +50,16 @@ pub trait Shape<const N: usize>: Send + Sync + std::fmt::Debug {
     fn reflect(&self, x: &Vector<N>) -> Vector<N> {
         2.0 * self.closest_point(x) - x
     }
+
+    /// Volume ratio of the mirror image of `x` to `x` (the Jacobian determinant of
+    /// [`Shape::reflect`] at `x`): exactly 1 across a straight wall (an isometry); across a
+    /// curved wall the reflection across the local tangent stretches the tangential directions
+    /// by the ratio of the image's distance from the centre of curvature to the point's.
+    /// Mirror particles carry their parent's volume times this ratio, so that they fill the
+    /// kernel support across the wall as the fluid would (ISPH, `scheme::isph::walls`).
+    fn reflection_jacobian(&self, _x: &Vector<N>) -> f64 {
+        1.0
+    }
 }
 
 /// Which side of a closed boundary the fluid is on.
@@ -162,6 +172,11 @@ impl<const N: usize> Shape<N> for Ball<N> {
     fn normal(&self, x: &Vector<N>) -> Vector<N> {
         self.fluid.sign() * self.radial(x)
     }
+    /// `(r_m / r)^(N-1)`: the image lies at `r_m = 2 R - r` from the centre, on the same ray.
+    fn reflection_jacobian(&self, x: &Vector<N>) -> f64 {
+        let r = (x - self.centre).norm();
+        ((2.0 * self.radius - r) / r).powi(N as i32 - 1)
+    }
 }
 
 /// Several solids as one: the fluid is where it is for every member (outside all obstacles,
@@ -200,6 +215,9 @@ impl<const N: usize> Shape<N> for Union<N> {
     }
     fn normal(&self, x: &Vector<N>) -> Vector<N> {
         self.members[self.nearest(x).0].normal(x)
+    }
+    fn reflection_jacobian(&self, x: &Vector<N>) -> f64 {
+        self.members[self.nearest(x).0].reflection_jacobian(x)
     }
 }
 

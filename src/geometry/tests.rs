@@ -206,3 +206,35 @@ fn ball_is_written_for_any_dimension() {
         3.0
     );
 }
+
+/// The reflection's Jacobian is the determinant of the finite-difference derivative of
+/// `reflect`: (2R - r) / r around a circle (a tank's images spread out, a cylinder's crowd),
+/// exactly 1 across a straight wall.
+#[test]
+fn reflection_jacobian_is_the_determinant_of_the_reflection() {
+    let centre = Vec2::new(0.1, -0.2);
+    let shapes: [Box<dyn Shape<2>>; 3] = [
+        Box::new(Ball::container(centre, 0.5)),
+        Box::new(Ball::obstacle(centre, 0.5)),
+        Box::new(HalfPlane::new(centre, Vec2::new(0.6, 0.8))),
+    ];
+    let e = 1e-6;
+    for shape in &shapes {
+        for k in 0..24 {
+            let a = 0.37 * k as f64;
+            let x = centre + (0.35 + 0.3 * k as f64 / 24.0) * Vec2::new(a.cos(), a.sin());
+            let col = |d: Vec2| (shape.reflect(&(x + d)) - shape.reflect(&(x - d))) / (2.0 * e);
+            let (cx, cy) = (col(Vec2::new(e, 0.0)), col(Vec2::new(0.0, e)));
+            let det = (cx.x * cy.y - cx.y * cy.x).abs();
+            let j = shape.reflection_jacobian(&x);
+            assert!(
+                (det - j).abs() < 1e-6 * j,
+                "{shape:?} at {x:?}: {det} vs {j}"
+            );
+        }
+    }
+    let r = 0.4;
+    let x = centre + Vec2::new(r, 0.0);
+    assert!((shapes[0].reflection_jacobian(&x) - (1.0 - r) / r).abs() < 1e-15);
+    assert_eq!(shapes[2].reflection_jacobian(&x), 1.0);
+}

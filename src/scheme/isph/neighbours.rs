@@ -66,7 +66,11 @@ impl<R: Rheology> Isph<R> {
         let all_x = &self.all_x;
         let grid = CellGrid::build(all_x, radius, &dom);
         let nl = NeighborList::build(&grid, all_x, &xs, radius, &dom);
-        let vols = vec![vol; all_x.len()];
+        // Virtual particles carry their parent's volume times the reflection's Jacobian
+        // (`Virtual::volume`).
+        let vols: Vec<f64> = std::iter::repeat_n(vol, n)
+            .chain(virt.volume.iter().map(|r| vol * r))
+            .collect();
         let sums = neighbour_sums(
             &mut self.pairs,
             all_x,
@@ -165,7 +169,10 @@ fn neighbour_sums(
                 let gij = xij * f;
                 // Pair data: zero for the self pair.
                 if j != i && r2 != 0.0 {
-                    g[kk] = gij;
+                    // The cache's readers multiply by the fluid volume: a virtual particle's
+                    // own volume (`Virtual::volume`) enters through the ratio (exactly 1 for
+                    // fluid neighbours and across straight walls).
+                    g[kk] = gij * (vols[j] / vols[i]);
                     m[kk] = 2.0 * vols[j] * f;
                 }
                 // Moment matrix M_i: x_ji (x) grad W_ij = -x_ij g^T.
