@@ -89,79 +89,69 @@ impl Instance {
         Ok(self.preview.as_ref().expect("just built").outputs())
     }
 
-    pub fn get_real(&mut self, vrs: &[u32], values: &mut [f64]) -> Status {
+    /// The frame of the `fmi2Get*` calls: each value reference looked up (an unknown one
+    /// refused) and its value taken from `value`, which refuses a variable of another type.
+    fn get_each<T>(
+        &mut self,
+        func: &'static str,
+        vrs: &[u32],
+        values: &mut [T],
+        mut value: impl FnMut(&mut Self, u32, &Var) -> Result<T, Fail>,
+    ) -> Status {
         self.call(
-            "fmi2GetReal",
+            func,
             mask::GET,
             || format!("vr={vrs:?}"),
             |s| {
-                let mut outputs: Option<Outputs> = None;
                 for (k, &vr) in vrs.iter().enumerate() {
                     let var = lookup(vr).ok_or_else(|| unknown_vr(vr))?;
-                    values[k] = match &var {
-                        Var::Output(i) => {
-                            if outputs.is_none() {
-                                outputs = Some(s.current_outputs()?);
-                            }
-                            outputs.expect("set above").values()[*i]
-                        }
-                        Var::Param(p) => match (p.kind, s.cfg.get(p.name)) {
-                            (Kind::Real { .. }, Ok(Value::Real(x))) => x,
-                            _ => return Err(wrong_type(vr, &var, "Get")),
-                        },
-                        Var::Name(_) => return Err(wrong_type(vr, &var, "Get")),
-                    };
+                    values[k] = value(s, vr, &var)?;
                 }
                 Ok(Status::Ok)
             },
         )
     }
 
-    pub fn get_integer(&mut self, vrs: &[u32], values: &mut [i32]) -> Status {
-        self.call(
-            "fmi2GetInteger",
-            mask::GET,
-            || format!("vr={vrs:?}"),
-            |s| {
-                for (k, &vr) in vrs.iter().enumerate() {
-                    let var = lookup(vr).ok_or_else(|| unknown_vr(vr))?;
-                    values[k] = match &var {
-                        Var::Param(p) => match (p.kind, s.cfg.get(p.name)) {
-                            (
-                                Kind::Integer { .. } | Kind::Enumeration { .. },
-                                Ok(Value::Integer(i)),
-                            ) => i32::try_from(i).expect("table ranges fit in fmi2Integer"),
-                            _ => return Err(wrong_type(vr, &var, "Get")),
-                        },
-                        Var::Output(_) | Var::Name(_) => return Err(wrong_type(vr, &var, "Get")),
-                    };
+    pub fn get_real(&mut self, vrs: &[u32], values: &mut [f64]) -> Status {
+        // The outputs are computed once per call, and only if one is asked for.
+        let mut outputs: Option<Outputs> = None;
+        self.get_each("fmi2GetReal", vrs, values, |s, vr, var| match var {
+            Var::Output(i) => {
+                if outputs.is_none() {
+                    outputs = Some(s.current_outputs()?);
                 }
-                Ok(Status::Ok)
+                Ok(outputs.as_ref().expect("set above").values()[*i])
+            }
+            Var::Param(p) => match (p.kind, s.cfg.get(p.name)) {
+                (Kind::Real { .. }, Ok(Value::Real(x))) => Ok(x),
+                _ => Err(wrong_type(vr, var, "Get")),
             },
-        )
+            Var::Name(_) => Err(wrong_type(vr, var, "Get")),
+        })
+    }
+
+    pub fn get_integer(&mut self, vrs: &[u32], values: &mut [i32]) -> Status {
+        self.get_each("fmi2GetInteger", vrs, values, |s, vr, var| match var {
+            Var::Param(p) => match (p.kind, s.cfg.get(p.name)) {
+                (Kind::Integer { .. } | Kind::Enumeration { .. }, Ok(Value::Integer(i))) => {
+                    Ok(i32::try_from(i).expect("table ranges fit in fmi2Integer"))
+                }
+                _ => Err(wrong_type(vr, var, "Get")),
+            },
+            Var::Output(_) | Var::Name(_) => Err(wrong_type(vr, var, "Get")),
+        })
     }
 
     /// `fmi2GetString`: the item names of the String twins of the Enumeration parameters, as
     /// `'static` strings (the table's), so the pointers handed to the importer stay valid.
     pub fn get_string(&mut self, vrs: &[u32], values: &mut [&'static str]) -> Status {
-        self.call(
-            "fmi2GetString",
-            mask::GET,
-            || format!("vr={vrs:?}"),
-            |s| {
-                for (k, &vr) in vrs.iter().enumerate() {
-                    let var = lookup(vr).ok_or_else(|| unknown_vr(vr))?;
-                    values[k] = match &var {
-                        Var::Name(p) => s
-                            .cfg
-                            .item_name(p.name)
-                            .map_err(|e| Fail::Error(e.to_string()))?,
-                        _ => return Err(wrong_type(vr, &var, "Get")),
-                    };
-                }
-                Ok(Status::Ok)
-            },
-        )
+        self.get_each("fmi2GetString", vrs, values, |s, vr, var| match var {
+            Var::Name(p) => s
+                .cfg
+                .item_name(p.name)
+                .map_err(|e| Fail::Error(e.to_string())),
+            _ => Err(wrong_type(vr, var, "Get")),
+        })
     }
 
     /// `fmi2SetString`: a String twin takes an item name of its Enumeration (refused with the
