@@ -224,6 +224,10 @@ impl NeighborList {
         dom: &Domain,
     ) -> Self {
         let r2 = radius * radius;
+        // In an open domain x_ij is the plain difference (bitwise what `delta` returns): the
+        // test below runs for every candidate pair, and the per-axis period checks cost as much
+        // as the distance itself (callgrind: a fifth of the neighbour search of a drop).
+        let open = !dom.is_periodic();
         const CHUNK: usize = 512;
         let parts: Vec<(Vec<u32>, Vec<u32>)> = queries
             .par_chunks(CHUNK)
@@ -233,7 +237,9 @@ impl NeighborList {
                 for q in chunk {
                     let before = idx.len();
                     grid.for_each_candidate(q, |j| {
-                        if dom.delta(&points[j as usize], q).norm_squared() <= r2 {
+                        let p = &points[j as usize];
+                        let d = if open { p - q } else { dom.delta(p, q) };
+                        if d.norm_squared() <= r2 {
                             idx.push(j);
                         }
                     });
