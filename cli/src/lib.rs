@@ -4,6 +4,7 @@
 
 pub mod bench;
 pub mod docs_tables;
+pub mod exact;
 pub mod io;
 pub mod predictions;
 pub mod run;

@@ -47,6 +47,9 @@ enum Command {
     DefaultScene,
     /// Benchmarks: see `viscosph bench --help`.
     Bench(viscosph_cli::bench::BenchArgs),
+    /// Sample an exact or model solution the validation gallery compares with (CSV on stdout).
+    #[command(subcommand)]
+    Exact(viscosph_cli::exact::ExactKind),
     /// Write the manual's generated tables (parameters, outputs, choices, FMU variables) as
     /// markdown files into a directory (docs/book/src/generated).
     DocsTables {
@@ -156,6 +159,16 @@ fn main() -> ExitCode {
         }
         Command::Bench(args) => match viscosph_cli::bench::main(args) {
             Ok(()) => ExitCode::SUCCESS,
+            Err(e) => {
+                eprintln!("error: {e}");
+                ExitCode::from(1)
+            }
+        },
+        Command::Exact(kind) => match viscosph_cli::exact::exact_csv(&kind) {
+            Ok(csv) => {
+                print!("{csv}");
+                ExitCode::SUCCESS
+            }
             Err(e) => {
                 eprintln!("error: {e}");
                 ExitCode::from(1)
