@@ -63,8 +63,8 @@ pub enum BenchKind {
     /// Redraw the PNGs that the CSV files in --out hold the data of (accuracy.png), without
     /// running anything: for a change of the plot style.
     Replot,
-    /// Assemble docs/benchmarks.md from the results of the other subcommands (run them first),
-    /// with the machine and commit noted and the PNGs copied to docs/bench/.
+    /// Regenerate docs/benchmarks.md: the sections found in --out (run their commands first) are
+    /// taken into docs/bench/, the committed results, and the report is written from there.
     Report {
         /// Where the report goes.
         #[arg(long, default_value = "docs")]
@@ -102,6 +102,10 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
     };
     if let Some(stem) = stem {
         std::fs::write(args.out.join(format!("{stem}.commit")), commit + "\n")?;
+        std::fs::write(
+            args.out.join(format!("{stem}.machine")),
+            machine_description() + "\n",
+        )?;
     }
     println!("{report}");
     Ok(())

@@ -1,34 +1,49 @@
-//! `viscosph bench report`: docs/benchmarks.md assembled from the other commands' results.
+//! `viscosph bench report`: docs/benchmarks.md generated from the benchmarks' results.
+//!
+//! Every measuring subcommand writes into its `--out` directory `<stem>.md` (its section: what it
+//! measures, tables, notes), `<stem>.commit` (the commit measured), `<stem>.machine` (CPU, cores,
+//! memory) and its PNGs. The committed results live in `docs/bench/`; `bench report --out DIR`
+//! takes a section's files from DIR into `<docs>/bench/` (sections DIR lacks keep their committed
+//! files) and regenerates `<docs>/benchmarks.md` from `<docs>/bench/` alone ([`render`]), so the
+//! report is a function of committed files: `cli/tests/bench_report.rs` checks that it is.
 
-use super::{git_commit, machine_description};
 use std::fmt::Write as _;
 use std::path::Path;
 
-/// The sections of the report: (title, command, markdown file, PNG files) from `results`.
-const REPORT_SECTIONS: &[(&str, &str, &str, &[&str])] = &[
-    (
-        "Accuracy against cost",
-        "viscosph bench accuracy",
-        "accuracy.md",
-        &["accuracy.png"],
-    ),
-    (
-        "Fang's drops at 20/40/80 particles per diameter",
-        "viscosph bench drop",
-        "drop.md",
-        &["drop.png"],
-    ),
-    (
-        "Throughput",
-        "viscosph bench throughput",
-        "throughput.md",
-        &["throughput.png"],
-    ),
-    (
-        "Stability maps",
-        "viscosph bench stability",
-        "stability.md",
-        &[
+/// A section of the report: its title, the command that measures it, the stem of its results
+/// files and the PNGs it shows after its text.
+pub struct Section {
+    pub title: &'static str,
+    pub command: &'static str,
+    pub stem: &'static str,
+    pub pngs: &'static [&'static str],
+}
+
+/// The sections in the order of the report.
+pub const SECTIONS: &[Section] = &[
+    Section {
+        title: "Accuracy against cost",
+        command: "viscosph bench accuracy",
+        stem: "accuracy",
+        pngs: &["accuracy.png"],
+    },
+    Section {
+        title: "Fang's drops at 20/40/80 particles per diameter",
+        command: "viscosph bench drop",
+        stem: "drop",
+        pngs: &["drop.png"],
+    },
+    Section {
+        title: "Throughput",
+        command: "viscosph bench throughput",
+        stem: "throughput",
+        pngs: &["throughput.png"],
+    },
+    Section {
+        title: "Stability maps",
+        command: "viscosph bench stability",
+        stem: "stability",
+        pngs: &[
             "stability_de_wcsph.png",
             "stability_de_pdri.png",
             "stability_de_isph.png",
@@ -37,103 +52,131 @@ const REPORT_SECTIONS: &[(&str, &str, &str, &[&str])] = &[
             "stability_velocity.png",
             "stability_resolution.png",
         ],
-    ),
-    (
-        "Every rheology on Fang's drop",
-        "viscosph bench rheologies",
-        "rheologies.md",
-        &[
+    },
+    Section {
+        title: "Every rheology on Fang's drop",
+        command: "viscosph bench rheologies",
+        stem: "rheologies",
+        pngs: &[
             "rheologies_wcsph.png",
             "rheologies_pdri.png",
             "rheologies_isph.png",
         ],
-    ),
-    (
-        "Channel: start-up Poiseuille flow (King & Lind section IV.A)",
-        "viscosph bench channel",
-        "channel.md",
-        &[
+    },
+    Section {
+        title: "Channel: start-up Poiseuille flow (King & Lind section IV.A)",
+        command: "viscosph bench channel",
+        stem: "channel",
+        pngs: &[
             "channel_accuracy.png",
             "channel_wi.png",
             "channel_nonlinear.png",
         ],
-    ),
-    (
-        "The buckling jet (King & Lind section IV.D)",
-        "viscosph bench jet",
-        "jet.md",
-        &[],
-    ),
-    (
-        "ISPH (King & Lind 2021) on their Newtonian Re = 4 drop",
-        "nice -n 10 viscosph bench isph",
-        "isph.md",
-        &[],
-    ),
-    (
-        "PySPH side by side",
-        "python3 examples/compare_pysph.py",
-        "pysph.md",
-        &[],
-    ),
+    },
+    Section {
+        title: "PySPH side by side",
+        command: "python3 examples/compare_pysph.py",
+        stem: "pysph",
+        pngs: &[],
+    },
+    Section {
+        title: "The buckling jet (King & Lind section IV.D)",
+        command: "viscosph bench jet",
+        stem: "jet",
+        pngs: &[],
+    },
+    Section {
+        title: "ISPH (King & Lind 2021) on their Newtonian Re = 4 drop",
+        command: "nice -n 10 viscosph bench isph",
+        stem: "isph",
+        pngs: &[],
+    },
 ];
 
-pub fn bench_report(results: &Path, docs: &Path) -> Result<String, Box<dyn std::error::Error>> {
-    let img_dir = docs.join("bench");
-    std::fs::create_dir_all(&img_dir)?;
+/// The files of a section: its text, commit, machine and PNGs.
+fn files(s: &Section) -> Vec<String> {
+    let mut f = vec![
+        format!("{}.md", s.stem),
+        format!("{}.commit", s.stem),
+        format!("{}.machine", s.stem),
+    ];
+    f.extend(s.pngs.iter().map(|p| p.to_string()));
+    f
+}
+
+/// docs/benchmarks.md from the results in `dir` (the committed `docs/bench/`): every section
+/// whose `<stem>.md` is there, with its command, commit, machine and PNGs; a section with a text
+/// but no commit or machine file is an error (a report never says "unknown").
+pub fn render(dir: &Path) -> Result<String, Box<dyn std::error::Error>> {
     let mut md = String::from("# ViscoSPH benchmarks\n\n");
-    writeln!(
-        md,
-        "What each benchmark command measures, with the commit it was measured on, the machine \
-         and the command. Assembled by `viscosph bench report` from the results of the commands \
-         named in each section.\n"
-    )?;
-    // The commit each section was measured on (written by the subcommand that measured it).
-    let measured = |file: &str| {
-        let f = results.join(file.replace(".md", ".commit"));
-        std::fs::read_to_string(f)
-            .ok()
-            .map(|t| t.trim().to_string())
-    };
-    let mut commits: Vec<String> = REPORT_SECTIONS
-        .iter()
-        .filter_map(|(_, _, file, _)| measured(file))
-        .collect();
-    commits.sort();
-    commits.dedup();
-    writeln!(md, "- machine: {}", machine_description())?;
-    writeln!(
-        md,
-        "- measured on commit: {}",
-        if commits.is_empty() {
-            "unknown".to_string()
-        } else {
-            commits.join(", ")
-        }
-    )?;
-    writeln!(md, "- report assembled at commit: {}\n", git_commit())?;
-    for (title, cmd, file, pngs) in REPORT_SECTIONS {
-        writeln!(md, "## {title}\n\n`{cmd}`\n")?;
-        if let Some(c) = measured(file) {
-            writeln!(md, "Measured on commit {c}.\n")?;
-        }
-        match std::fs::read_to_string(results.join(file)) {
-            Ok(t) => md.push_str(&t),
-            Err(_) => writeln!(
-                md,
-                "_not run yet: `{cmd}` writes `{}`_",
-                results.join(file).display()
-            )?,
-        }
-        md.push('\n');
-        for png in *pngs {
-            let src = results.join(png);
-            if src.exists() {
-                std::fs::copy(&src, img_dir.join(png))?;
-                writeln!(md, "![{png}](bench/{png})\n")?;
+    md.push_str(concat!(
+        "What each benchmark measures, on which commit and machine, and the command that\n",
+        "measures it. This file is generated by `viscosph bench report` from the results in\n",
+        "`docs/bench/`: each `viscosph bench <what> --out DIR` writes its section (`<what>.md`),\n",
+        "the commit and machine it measured on and its PNGs into DIR, and\n",
+        "`viscosph bench report --out DIR` takes them into `docs/bench/` and regenerates this\n",
+        "file. Wall times measured while other builds shared the machine are upper bounds (each\n",
+        "section says so); step counts, errors, widths and volumes do not depend on the load.\n",
+    ));
+    for s in SECTIONS {
+        let Ok(text) = std::fs::read_to_string(dir.join(format!("{}.md", s.stem))) else {
+            continue;
+        };
+        let meta = |ext: &str| {
+            let f = dir.join(format!("{}.{ext}", s.stem));
+            std::fs::read_to_string(&f)
+                .map(|t| t.trim().to_string())
+                .map_err(|e| format!("{}: {e} (written by `{}`)", f.display(), s.command))
+        };
+        let (commit, machine) = (meta("commit")?, meta("machine")?);
+        write!(
+            md,
+            "\n## {}\n\n`{}`\n\nMeasured on commit {commit}; machine: {machine}.\n\n{}\n",
+            s.title,
+            s.command,
+            text.trim()
+        )?;
+        // A PNG the text shows already (beside its table) is not shown twice.
+        for png in s.pngs {
+            if dir.join(png).exists() && !text.contains(&format!("(bench/{png})")) {
+                write!(md, "\n![{png}](bench/{png})\n")?;
             }
         }
     }
+    Ok(md)
+}
+
+/// `viscosph bench report`: take the sections found in `results` into `<docs>/bench/` and write
+/// `<docs>/benchmarks.md` from there.
+pub fn bench_report(results: &Path, docs: &Path) -> Result<String, Box<dyn std::error::Error>> {
+    let store = docs.join("bench");
+    std::fs::create_dir_all(&store)?;
+    let same = std::fs::canonicalize(results).ok() == std::fs::canonicalize(&store).ok();
+    let mut taken = Vec::new();
+    if !same {
+        for s in SECTIONS {
+            if !results.join(format!("{}.md", s.stem)).exists() {
+                continue;
+            }
+            for f in files(s) {
+                let src = results.join(&f);
+                if src.exists() {
+                    std::fs::copy(&src, store.join(&f))?;
+                }
+            }
+            taken.push(s.stem);
+        }
+    }
+    let md = render(&store)?;
     std::fs::write(docs.join("benchmarks.md"), &md)?;
-    Ok(format!("wrote {}", docs.join("benchmarks.md").display()))
+    Ok(format!(
+        "wrote {} (sections taken from {}: {})",
+        docs.join("benchmarks.md").display(),
+        results.display(),
+        if taken.is_empty() {
+            "none".to_string()
+        } else {
+            taken.join(", ")
+        }
+    ))
 }
