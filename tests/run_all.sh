@@ -4,8 +4,11 @@
 #   2. the FMU: `cargo run --release -p fmu-build` in target/ (host library, shared with the
 #      tests and the main job) plus the portable linux64 and win64 binaries in target/cross
 #   3. `cargo test --release --workspace`; the FMU tests use the FMU of stage 2 (VISCOSPH_FMU)
-#   4. pytest tests/python: fmpy, libcosim, ecos, fmutool, the platforms (glibc, wine), Dask
-#   5. the user manual (`mdbook build docs/book`) and the API documentation (`cargo doc`), both
+#   4. the validation gallery's short mode (`validation/run.sh --short`: every validation/<case>
+#      at low resolution, about a minute, with the release binary stage 3 built; fails when a
+#      case breaks a threshold of its README)
+#   5. pytest tests/python: fmpy, libcosim, ecos, fmutool, the platforms (glibc, wine), Dask
+#   6. the user manual (`mdbook build docs/book`) and the API documentation (`cargo doc`), both
 #      without a warning
 # Every stage runs even if an earlier one failed; the exit status is nonzero if any failed.
 # `bash examples/main.sh` afterwards compiles nothing: it runs the same fmu-build.
@@ -30,6 +33,7 @@ stage "tool chains" bash tests/install_toolchains.sh
 stage "build the FMU" cargo run --release -p fmu-build
 stage "cargo test" env VISCOSPH_FMU="$PWD/target/fmu/ViscoSPH.fmu" \
     cargo test --release --workspace --no-fail-fast
+stage "validation (short)" bash validation/run.sh --short
 stage "pytest" .venv/bin/python -m pytest tests/python
 
 # Output that names a warning fails the stage: mdbook reports a missing include or a broken

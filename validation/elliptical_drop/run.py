@@ -27,7 +27,9 @@ for scheme in schemes:
                       abs(float(m.group(1))) / 100, "{:.4f}")
         # drop_height is the extent along y, the major axis: b = height / 2.
         t = s["time"]
-        b = [h / 2 for h in s["drop_height"]]
+        # Half the extent plus a spacing is not R at t = 0 on every lattice (2 % off at 50 per
+        # diameter): b is scaled by R / b(0), so that the curve shows the flow's error only.
+        b = [h / s["drop_height"][0] for h in s["drop_height"]]
         ex = case.exact("elliptical-drop", "--t-end", t[-1], "--interval", t[1] - t[0])
         err = [bi / be - 1 for bi, be in zip(b, ex["semi_major"])]
         worst = max(abs(e) for e in err)
@@ -35,7 +37,8 @@ for scheme in schemes:
             ax1.plot([x * 1e3 for x in t], b, "--", label=f"{scheme}, {n} per diameter")
         ax2.plot([x * 1e3 for x in t], [100 * e for e in err], label=f"{scheme}, {n}")
         case.measured(f"major_error_max_{scheme}_{n}", f"{scheme}, {n} per diameter: max "
-                      "over t of abs(b/b_exact - 1), b = drop_height / 2", worst, "{:.4f}")
+                      "over t of abs(b/b_exact - 1), b = R drop_height / drop_height(0)",
+                      worst, "{:.4f}")
 ax1.set(xlabel="t [ms]", ylabel="semi-major axis b [m]", title="elliptical drop: b(t)")
 ax2.set(xlabel="t [ms]", ylabel="b / b_exact - 1 [%]", title="error of the semi-major axis")
 ax1.legend(fontsize=7)
@@ -44,7 +47,7 @@ fig.tight_layout()
 fig.savefig(case.out / "elliptical_drop.png", dpi=110)
 case.finish("Two measures of the semi-major axis b: at t = 8 ms the scene's own (half the "
             "extent of the particle centres along y, what `viscosph run` and `viscosph bench "
-            "accuracy` report), and over time half the `drop_height` output (the centres' "
-            "extent plus one particle spacing, 2R at t = 0), sampled every 0.1 ms. The exact b is "
+            "accuracy` report), and over time the `drop_height` output (the centres' extent "
+            "plus one particle spacing) scaled to R at t = 0, sampled every 0.1 ms. The exact b is "
             "Monaghan's ODE as the scene module integrates it (`viscosph exact "
             "elliptical-drop`).")

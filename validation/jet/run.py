@@ -19,7 +19,8 @@ for (fluid, keys), colour in zip(fluids, ["C0", "C1"]):
         label = f"{fluid}_{n}"
         s, out = case.run("scene.toml", label, {**keys, "particles_per_diameter": n},
                           t_end=0.26, interval=0.002)
-        # The scene's own arrival (first force on the plate), as `viscosph run` reports it.
+        # The scene's own arrival (the first output with fluid on the plate: the heap has a
+        # height), as `viscosph run` reports it.
         m = re.search(r"reached the plate at t = ([0-9.eE+-]+) s", out)
         if not m:
             sys.exit(f"jet/{label}: no arrival in the run's summary:\n{out}")
@@ -41,6 +42,8 @@ ax.set_xlim(0.15, 0.26)
 ax.legend(fontsize=7)
 fig.tight_layout()
 fig.savefig(case.out / "jet.png", dpi=110)
-case.finish("The SPH arrival is the first force on the plate (the head within a kernel support "
-            "of the wall particles), as the jet scene reports it; the model's arrival is when "
-            "the sheet's free end has fallen the nozzle height (`viscosph exact falling-sheet`).")
+case.finish("The SPH arrival is the first output (every 2 ms) at which fluid lies on the "
+            "plate (the heap has a height), as the jet scene reports it; the model's arrival is "
+            "when the sheet's free end has fallen the nozzle height (`viscosph exact "
+            "falling-sheet`). The figure shows the force on the plate, which starts a little "
+            "earlier (the head within a kernel support of the wall particles).")
