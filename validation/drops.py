@@ -43,3 +43,30 @@ def run_drops(case, runs, diameter, speed, marks, title, filename, names=("D", "
     fig.tight_layout()
     fig.savefig(case.out / filename, dpi=110)
     return found
+
+
+def newtonian_and_oldroyd_b(case, marks, title, filename, names, texts, timing):
+    """A case of a Newtonian and an Oldroyd-B drop (newtonian.toml, oldroyd_b.toml) at 20 per
+    diameter (short) or 20 and 40 (full): runs both, draws them, and measures per resolution
+    what `timing(n, oldroyd_b)` adds, the retraction of either drop and the volume kept.
+    texts: what the paper's text says of the Newtonian spreading and of the volume ("" if
+    nothing)."""
+    d = names[0]
+    resolutions = [20] if case.short else [20, 40]
+    runs = []
+    for n in resolutions:
+        runs += [(f"newtonian {n}", "newtonian.toml", {"particles_per_diameter": n}),
+                 (f"oldroyd_b {n}", "oldroyd_b.toml", {"particles_per_diameter": n})]
+    found = run_drops(case, runs, 0.02, 1.0, marks, title, filename, names)
+    newtonian_text, volume_text = texts
+    for n in resolutions:
+        ob, nw = found[f"oldroyd_b {n}"], found[f"newtonian {n}"]
+        timing(n, ob)
+        case.measured(f"oldroyd_b_{n}_retraction",
+                      f"Oldroyd-B, {n}/{d}: largest retraction of W*", ob["retraction"],
+                      "{:.3f}")
+        case.measured(f"newtonian_{n}_retraction", f"Newtonian, {n}/{d}: largest retraction "
+                      f"of W* (text: {newtonian_text})", nw["retraction"], "{:.4f}")
+        for label, r in (("newtonian", nw), ("oldroyd_b", ob)):
+            case.measured(f"{label}_{n}_volume", f"{label}, {n}/{d}: largest "
+                          f"abs(volume_error){volume_text}", r["volume"], "{:.4f}")
