@@ -25,9 +25,8 @@ for ax, fluid in zip(axes, ["newtonian", "cross"]):
         ax.plot(t, front, colour + "-", label=f"X_front {angle} deg")
         ax.plot(t, back, colour + "--", label=f"X_back {angle} deg")
         # Before contact X_back is the projection of the falling drop: the back edge's motion
-        # on the plate starts at its first minimum (the contact).
-        contact = common.local_extrema(t, back, "min")
-        k0 = t.index(contact[0]) if contact else 0
+        # on the plate starts with the first force on the plate.
+        k0 = next((k for k, f in enumerate(s["wall_force_normal"]) if f != 0.0), 0)
         end[fluid, angle] = dict(front=front[-1], back=back[-1], back_max=max(back[k0:]))
     ax.set(xlabel="t* = t V / D", title=f"{fluid} drop, PDRI-SPH, {n} per diameter")
     ax.axhline(0, color="k", lw=0.6)
