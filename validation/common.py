@@ -102,7 +102,8 @@ class Case:
         failed = []
         lines = [f"Measured by `python3 validation/{self.name}/run.py"
                  f"{' --short' if self.short else ''}` on commit {commit()}.", "",
-                 "| quantity | | measured | threshold | |", "|---|---|---|---|---|"]
+                 "| quantity | what | measured | threshold | verdict |",
+                 "|---|---|---|---|---|"]
         for key, desc, value, fmt in self.rows:
             limit = limits.pop(key, None)
             verdict = ""

@@ -17,6 +17,10 @@ def intro(readme):
     return title, " ".join(first.split())
 
 
+def anchor(case):
+    return case.name.replace("_", "-")
+
+
 def main():
     figures = BOOK / "validation"
     figures.mkdir(parents=True, exist_ok=True)
@@ -28,12 +32,27 @@ def main():
             "every case at the README's resolution and writes this page; `bash validation/run.sh "
             "--short` runs them at low resolution, as the test command does, and fails when an "
             "error breaks its README's threshold.", ""]
-    for case in sorted(p for p in HERE.iterdir() if (p / "README.md").exists()):
+    cases = sorted(p for p in HERE.iterdir() if (p / "README.md").exists())
+    page += ["| case | thresholds met (full runs) |", "|---|---|"]
+    for case in cases:
+        results = case / "results.md"
+        if results.exists():
+            text = results.read_text()
+            met, broken = text.count("| pass |"), text.count("| FAIL |")
+            verdict = f"{met} of {met + broken}" + (f", {broken} broken" if broken else "")
+        else:
+            verdict = "reference only"
+        page.append(f"| [{intro(case / 'README.md')[0]}](#{anchor(case)}) | {verdict} |")
+    page.append("")
+    for case in cases:
         title, first = intro(case / "README.md")
         png = case / f"{case.name}.png"
         if not png.exists():
             png = next(iter(sorted((case / "reference").glob("*.png"))), None)
-        page += [f"## {title}", "", first, ""]
+        page += [f"## {title} {{#{anchor(case)}}}", "", first, ""]
+        if not (case / "run.py").exists():
+            page += ["This case holds the reference only: the gallery does not run the SPH scene "
+                     "against it.", ""]
         if png is not None:
             shutil.copy(png, figures / f"{case.name}.png")
             page += [f"![{case.name}](validation/{case.name}.png)", ""]
