@@ -14,30 +14,30 @@ use viscosph_reference::analytic::waters_king::WatersKing;
 #[derive(Subcommand, Debug)]
 pub enum ExactKind {
     /// Monaghan's elliptical drop (the exact ODE of the `elliptical_drop` scene):
-    /// time, semi-minor and semi-major axis [m] from t = 0 to --t-end.
+    /// time, semi-minor and semi-major axis \[m\] from t = 0 to --t-end.
     EllipticalDrop {
-        /// End time [s].
+        /// End time \[s\].
         #[arg(long, default_value_t = elliptical_drop::T_END)]
         t_end: f64,
-        /// Time between rows [s].
+        /// Time between rows \[s\].
         #[arg(long, default_value_t = elliptical_drop::T_END / 160.0)]
         interval: f64,
     },
     /// Waters & King 1970's start-up of plane Poiseuille flow for a channel scene file (its
     /// density, viscosity, viscosity ratio, relaxation time, width and body force): time and
-    /// centre-line velocity [m/s] from t = 0 to --t-end.
+    /// centre-line velocity \[m/s\] from t = 0 to --t-end.
     WatersKing {
         /// Scene file (TOML) of a channel.
         scene: PathBuf,
-        /// End time [s].
+        /// End time \[s\].
         #[arg(long)]
         t_end: f64,
-        /// Time between rows [s].
+        /// Time between rows \[s\].
         #[arg(long)]
         interval: f64,
     },
     /// The slender-sheet model of a jet scene file: the time its leading end reaches the plate
-    /// [s], its speed then [m/s] and its smallest width [m].
+    /// \[s\], its speed then \[m/s\] and its smallest width \[m\].
     FallingSheet {
         /// Scene file (TOML) of a jet.
         scene: PathBuf,
