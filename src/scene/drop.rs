@@ -81,14 +81,17 @@ impl Scene for Drop {
     }
 
     /// The impact speed plus the free fall from the initial height until the drop's lowest
-    /// point touches the plate, sqrt(V^2 + 2 g h_fall). A drop that spreads or slides
-    /// afterwards does not speed up much beyond it (viscosity and the plate take energy out).
+    /// point touches the plate, sqrt(V^2 + 2 g h_fall), plus `max_plate_speed`: the fluid
+    /// meets the plate at the sum of the two speeds when the plate inputs drive the plate into
+    /// the drop as fast as the run allows. A drop that spreads or slides afterwards does not
+    /// speed up much beyond it (viscosity and the plate take energy out).
     fn max_expected_speed(&self, cfg: &SceneConfig) -> f64 {
         let d = &cfg.drop;
         let theta = cfg.plate.plate_inclination.to_radians();
         let fall = (d.initial_drop_height - 0.5 * d.drop_diameter / theta.cos()).max(0.0);
         let v = d.impact_velocity;
-        (v * v + 2.0 * cfg.fluid.gravity * fall).sqrt().max(1e-3)
+        let drop = (v * v + 2.0 * cfg.fluid.gravity * fall).sqrt();
+        (drop + cfg.plate.max_plate_speed).max(1e-3)
     }
 
     /// The fluid and the plate's wall particles (four rows, twenty diameters long).
