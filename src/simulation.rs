@@ -125,7 +125,11 @@ fn check_input_range(
 ) -> Result<(), String> {
     let (v, max) = (now.plate.plate_velocity, setup.plate.max_plate_speed);
     if scene.has_moving_plate() && v.abs() > max {
-        return Err(plate_speed_refusal(&format!("plate_velocity = {v} m/s"), v, max));
+        return Err(plate_speed_refusal(
+            &format!("plate_velocity = {v} m/s"),
+            v,
+            max,
+        ));
     }
     scene.check_input_range(setup, now)
 }
@@ -215,7 +219,8 @@ impl Simulation {
         );
         // A plate steered to a position moves at a velocity that depends on the length of the
         // communication step: the steps land on every communication point.
-        let steered = scene.has_moving_plate() && eff.plate.plate_coupling == PlateCoupling::Position;
+        let steered =
+            scene.has_moving_plate() && eff.plate.plate_coupling == PlateCoupling::Position;
         Ok(Self {
             cfg,
             eff,
