@@ -185,7 +185,8 @@ fn string_twins_set_the_enumeration_by_name() {
             "isph_frame_name",
             "isph_viscous_step_name",
             "isph_free_surface_name",
-            "wall_boundary_name"
+            "wall_boundary_name",
+            "plate_coupling_name"
         ]
     );
     assert!(name_variable("plate_inclination_name").is_none());
@@ -215,7 +216,7 @@ fn inputs_are_the_input_rows_and_are_checked() {
     let i = c.inputs();
     assert_eq!(
         i.iter().map(|(n, _)| n).collect::<Vec<_>>(),
-        ["plate_velocity", "jet_velocity"]
+        ["plate_velocity", "plate_position", "jet_velocity"]
     );
     c.apply_inputs(&i.clone().with("plate_velocity", 0.5))
         .unwrap();
