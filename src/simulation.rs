@@ -17,7 +17,7 @@
 
 use crate::boundary::plate::Motion;
 use crate::budget::Budget;
-use crate::config::ConfigError;
+use crate::config::{ConfigError, PlateCoupling};
 use crate::diagnostics::pressure_roughness;
 use crate::kernel::CubicSpline;
 use crate::scene::{Inputs, Outputs, Scene, SceneConfig};
@@ -46,6 +46,11 @@ pub enum SimError {
     /// [`Budget`]; the state is the last step's, as after an interruption.
     #[error("stopped at t = {time:.6e} s (step {step}) after {spent}, the budget of one call")]
     OverBudget { time: f64, step: u64, spent: String },
+    /// An input outside the range the run was set up for (`max_plate_speed`,
+    /// `max_jet_velocity`): refused before any work, nothing changed. The message names the
+    /// input, its value and the parameter to raise.
+    #[error("{0}")]
+    InputOutOfRange(String),
 }
 
 /// What a saved state holds besides the configuration (see [`Simulation::save_state`]).
@@ -58,6 +63,7 @@ struct Saved {
     rewind: Option<State>,
     /// The inputs in force (the configuration holds their start values).
     inputs: Inputs,
+    inputs_time: f64,
 }
 
 /// A running simulation.
@@ -88,6 +94,10 @@ pub struct Simulation {
     /// Checked before every step: when it is set, `advance_to` stops there (see
     /// [`Simulation::set_stop_flag`]).
     stop: Option<Arc<AtomicBool>>,
+    /// When the inputs in force were set (the communication time then): under
+    /// `plate_coupling = position` the plate's target `plate_position + plate_velocity (t -
+    /// inputs_time)` is extrapolated from it.
+    inputs_time: f64,
 }
 
 /// Inputs a scene can take: a plate velocity only where there is a plate to move.
@@ -101,6 +111,37 @@ fn check_inputs(scene: &dyn Scene, cfg: &SceneConfig) -> Result<(), ConfigError>
         )));
     }
     Ok(())
+}
+
+/// Whether the inputs of `now` lie within the range a run set up with `setup` (the
+/// configuration it was built from, whose limits and start values resolved the sound speed) can
+/// take: the plate's speed within `max_plate_speed`, and the scene's own
+/// ([`Scene::check_input_range`]). The message names the input, its value and the parameter to
+/// raise.
+fn check_input_range(
+    scene: &dyn Scene,
+    setup: &SceneConfig,
+    now: &SceneConfig,
+) -> Result<(), String> {
+    let (v, max) = (now.plate.plate_velocity, setup.plate.max_plate_speed);
+    if scene.has_moving_plate() && v.abs() > max {
+        return Err(plate_speed_refusal(
+            &format!("plate_velocity = {v} m/s"),
+            v,
+            max,
+        ));
+    }
+    scene.check_input_range(setup, now)
+}
+
+/// "plate_velocity = -5 m/s is beyond max_plate_speed = 1 m/s ...".
+fn plate_speed_refusal(what: &str, speed: f64, max: f64) -> String {
+    format!(
+        "{what} is beyond max_plate_speed = {max} m/s, the largest plate speed this run was set up for \
+         (its automatic sound speed covers a plate driven into the fluid that fast): set max_plate_speed \
+         to at least {} m/s before initialization",
+        speed.abs()
+    )
 }
 
 /// Put the inputs of `cfg` in force in `st`: a plate whose motion is the input moves at
@@ -148,6 +189,7 @@ impl Simulation {
         let scene = cfg.scene_def();
         scene.validate(&scene.effective_config(cfg))?;
         check_inputs(scene, cfg)?;
+        check_input_range(scene, cfg, cfg).map_err(ConfigError::Inconsistent)?;
         Ok(())
     }
 
@@ -175,6 +217,10 @@ impl Simulation {
             params.clone(),
             &state.walls,
         );
+        // A plate steered to a position moves at a velocity that depends on the length of the
+        // communication step: the steps land on every communication point.
+        let steered =
+            scene.has_moving_plate() && eff.plate.plate_coupling == PlateCoupling::Position;
         Ok(Self {
             cfg,
             eff,
@@ -186,9 +232,10 @@ impl Simulation {
             pool,
             t_comm: 0.0,
             prev: None,
-            exact: false,
+            exact: steered,
             rewind: None,
             stop: None,
+            inputs_time: 0.0,
         })
     }
 
@@ -242,6 +289,7 @@ impl Simulation {
         let mut next = self.eff.clone();
         next.apply_inputs(&inputs).map_err(request)?;
         check_inputs(self.scene, &next).map_err(request)?;
+        check_input_range(self.scene, &self.cfg, &next).map_err(SimError::InputOutOfRange)?;
         if next.inputs() == self.eff.inputs() {
             return Ok(());
         }
@@ -260,6 +308,7 @@ impl Simulation {
         }
         self.exact = true;
         self.eff = next;
+        self.inputs_time = self.t_comm;
         apply_plate_input(&self.eff, &mut self.state);
         Ok(())
     }
@@ -304,8 +353,59 @@ impl Simulation {
                 self.t_comm
             )));
         }
+        self.steer_plate(t_end)?;
         let pool = Arc::clone(&self.pool);
         pool.install(|| self.advance_in_pool(t_end, budget))
+    }
+
+    /// Under `plate_coupling = position`: the plate's velocity until `t_end`, constant, that
+    /// brings it to `plate_position + plate_velocity (t_end - t_set)` at `t_end`, t_set the time
+    /// the inputs were set: a master's position and velocity at a communication point,
+    /// extrapolated over its step. The plate's displacement then follows the master's position
+    /// to within the extrapolation's error over one step, which does not accumulate as a
+    /// velocity held over each step (a Jacobi master) does. None under `velocity` coupling;
+    /// refused if that velocity is beyond `max_plate_speed`.
+    fn plate_steering(&self, t_end: f64) -> Result<Option<f64>, SimError> {
+        let p = &self.eff.plate;
+        let h = t_end - self.state.time;
+        let Some(plate) = self.state.plate().filter(|w| w.motion == Motion::Input) else {
+            return Ok(None);
+        };
+        if p.plate_coupling != PlateCoupling::Position || !self.scene.has_moving_plate() || h <= 0.0
+        {
+            return Ok(None);
+        }
+        let target = p.plate_position + p.plate_velocity * (t_end - self.inputs_time);
+        let max = self.cfg.plate.max_plate_speed;
+        let u = (target - plate.displacement) / h;
+        if u.abs() <= max {
+            return Ok(Some(u));
+        }
+        Err(SimError::InputOutOfRange(plate_speed_refusal(
+            &format!(
+                "plate_position = {} m with plate_velocity = {} m/s (plate_coupling = position) \
+                 asks the plate, now at {} m, to move at {u} m/s until t = {t_end} s, which",
+                p.plate_position, p.plate_velocity, plate.displacement
+            ),
+            u,
+            max,
+        )))
+    }
+
+    /// Whether [`Simulation::advance_to`]`(t_end)` would be refused before any work because an
+    /// input asks for more than the run was set up for ([`SimError::InputOutOfRange`]).
+    pub fn check_step(&self, t_end: f64) -> Result<(), SimError> {
+        self.plate_steering(t_end).map(|_| ())
+    }
+
+    /// Put [`Simulation::plate_steering`] in force until `t_end`.
+    fn steer_plate(&mut self, t_end: f64) -> Result<(), SimError> {
+        if let Some(u) = self.plate_steering(t_end)? {
+            if let Some(plate) = self.state.plate_mut() {
+                plate.velocity = u;
+            }
+        }
+        Ok(())
     }
 
     fn advance_in_pool(&mut self, t_end: f64, budget: &Budget) -> Result<(), SimError> {
@@ -453,6 +553,7 @@ impl Simulation {
             exact: self.exact,
             rewind: self.rewind.clone(),
             inputs: self.inputs(),
+            inputs_time: self.inputs_time,
         };
         bincode::serialize(&(&self.cfg, &saved)).expect("state serialises")
     }
@@ -477,6 +578,7 @@ impl Simulation {
         sim.prev = saved.prev;
         sim.exact = saved.exact;
         sim.rewind = saved.rewind;
+        sim.inputs_time = saved.inputs_time;
         sim.stop = self.stop.take();
         *self = sim;
         Ok(())

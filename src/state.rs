@@ -78,6 +78,13 @@ pub struct State {
     /// once).
     #[serde(default)]
     pub wall_forces: Vec<Vec2>,
+    /// The plate's part of `wall_force` by fluid particle (in the order of `fluid`, whose
+    /// positions are those after the step) \[N/m\], global frame: the load along the plate
+    /// (`scene::drop`'s pressure and shear bins). Empty when the scheme does not split it per
+    /// particle (the incompressible scheme: its implicit viscous solve moves momentum between
+    /// neighbours and walls at once) or there is no plate.
+    #[serde(default)]
+    pub plate_load: Vec<Vec2>,
     /// Time integral of each wall's force since t = 0 \[N s/m\] (as `wall_forces`).
     #[serde(default)]
     pub wall_impulses: Vec<Vec2>,
@@ -121,6 +128,7 @@ impl State {
             wall_force: Vec2::zeros(),
             wall_impulse: Vec2::zeros(),
             wall_forces: Vec::new(),
+            plate_load: Vec::new(),
             wall_impulses: Vec::new(),
             last_dt: 0.0,
             void_fraction: 0.0,

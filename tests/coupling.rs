@@ -161,3 +161,88 @@ fn a_stiff_spring_gives_the_fixed_plate_force() {
     );
     assert!(plate.x.abs() < 1e-5, "plate moved {} m", plate.x);
 }
+
+/// How a master couples the plate (see [`run_master`]).
+#[derive(Clone, Copy, PartialEq)]
+enum Master {
+    /// Gauss-Seidel: the plate first, then its mean velocity over the step to the solver.
+    GaussSeidel,
+    /// Jacobi: both advance from the values at t_k; the solver gets the plate's velocity at t_k.
+    JacobiVelocity,
+    /// Jacobi with `plate_coupling = position`: the solver gets the plate's position and
+    /// velocity at t_k.
+    JacobiPosition,
+}
+
+/// The plate's displacement at each communication point of a coupled run (the master's x) and
+/// the largest gap between it and the solver's `plate_displacement`.
+fn run_master(master: Master, h: f64, t_end: f64) -> (Vec<f64>, f64) {
+    let mut c = drop_cfg();
+    if master == Master::JacobiPosition {
+        c.set("plate_coupling", s("position")).unwrap();
+    }
+    let mut sim = Simulation::new(c).unwrap();
+    let mut plate = SpringPlate {
+        m: 0.314,
+        k: 3.1e4,
+        c: 20.0,
+        x: 0.0,
+        v: 0.0,
+    };
+    let (mut xs, mut gap) = (vec![0.0], 0.0f64);
+    let n = (t_end / h).round() as usize;
+    for k in 0..n {
+        let f = sim.outputs().shared.wall_force_normal;
+        let inputs = match master {
+            Master::GaussSeidel => sim.inputs().with("plate_velocity", plate.step(f, h)),
+            Master::JacobiVelocity => {
+                let i = sim.inputs().with("plate_velocity", plate.v);
+                plate.step(f, h);
+                i
+            }
+            Master::JacobiPosition => {
+                let i = sim
+                    .inputs()
+                    .with("plate_position", plate.x)
+                    .with("plate_velocity", plate.v);
+                plate.step(f, h);
+                i
+            }
+        };
+        sim.set_inputs(inputs).unwrap();
+        sim.advance_to((k + 1) as f64 * h).unwrap();
+        xs.push(plate.x);
+        gap = gap.max((sim.outputs().shared.plate_displacement - plate.x).abs());
+    }
+    (xs, gap)
+}
+
+/// A Jacobi master (fmpy's SSP runner, libcosim) that gives the solver the plate's velocity at
+/// the communication point drifts from the Gauss-Seidel run; giving it the plate's position
+/// too (`plate_coupling = position`) keeps the plate displacement within 0.5 % of the
+/// Gauss-Seidel run's largest.
+#[test]
+fn a_position_input_keeps_a_jacobi_master_from_drifting() {
+    let (h, t_end) = (2.0e-4, 0.025);
+    let (gs, _) = run_master(Master::GaussSeidel, h, t_end);
+    let (vel, vel_gap) = run_master(Master::JacobiVelocity, h, t_end);
+    let (pos, pos_gap) = run_master(Master::JacobiPosition, h, t_end);
+    let scale = gs.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let drift = |xs: &[f64]| {
+        xs.iter()
+            .zip(&gs)
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
+            / scale
+    };
+    let (d_vel, d_pos) = (drift(&vel), drift(&pos));
+    eprintln!(
+        "largest plate displacement {scale:.4e} m; drift against Gauss-Seidel: Jacobi velocity {:.3} %, \
+         Jacobi position {:.3} %; solver's plate off the master's by {vel_gap:.3e} m and {pos_gap:.3e} m",
+        100.0 * d_vel,
+        100.0 * d_pos
+    );
+    assert!(scale > 1e-5, "the plate moved: {scale}");
+    assert!(d_pos < 0.005, "position coupling drifts {d_pos}");
+    assert!(d_pos < d_vel, "{d_pos} vs {d_vel}");
+    assert!(pos_gap < vel_gap, "{pos_gap} vs {vel_gap}");
+}

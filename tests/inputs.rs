@@ -121,3 +121,108 @@ fn save_and_restore_with_a_moving_plate_repeat_the_run_bitwise() {
     assert_eq!(first.1, sim.outputs());
     assert_eq!(first.0, *sim.state());
 }
+
+/// An input beyond the range the run was set up for is refused by name, before any change;
+/// the same value runs when the run is set up for it.
+#[test]
+fn inputs_beyond_the_runs_range_are_refused_by_name() {
+    use viscosph::SimError;
+    let mut sim = Simulation::new(drop_cfg()).unwrap();
+    let before = sim.state().clone();
+    let e = sim
+        .set_inputs(sim.inputs().with("plate_velocity", -5.0))
+        .unwrap_err();
+    assert!(matches!(e, SimError::InputOutOfRange(_)), "{e:?}");
+    let msg = e.to_string();
+    for part in [
+        "plate_velocity = -5 m/s",
+        "max_plate_speed = 1 m/s",
+        "at least 5 m/s",
+    ] {
+        assert!(msg.contains(part), "{part}: {msg}");
+    }
+    assert_eq!(sim.inputs().get("plate_velocity"), Some(0.0));
+    assert_eq!(*sim.state(), before);
+    // Either way along the normal.
+    assert!(sim
+        .set_inputs(sim.inputs().with("plate_velocity", 1.5))
+        .is_err());
+    // Set up for it: max_plate_speed raised, and the automatic sound speed (which then covers
+    // it; the 12.5 m/s of drop_cfg breaks down at 0.47 ms).
+    let mut c = drop_cfg();
+    c.set("max_plate_speed", r(5.0)).unwrap();
+    c.set("sound_speed", r(0.0)).unwrap();
+    let mut sim = Simulation::new(c.clone()).unwrap();
+    sim.set_inputs(sim.inputs().with("plate_velocity", -5.0))
+        .unwrap();
+    sim.advance_to(0.001).unwrap();
+    // A start value beyond it is refused when the simulation is built.
+    c.set("max_plate_speed", r(0.5)).unwrap();
+    c.set("plate_velocity", r(0.7)).unwrap();
+    let e = Simulation::new(c).err().unwrap().to_string();
+    assert!(
+        e.contains("plate_velocity = 0.7 m/s") && e.contains("max_plate_speed"),
+        "{e}"
+    );
+}
+
+/// `plate_coupling = position`: over each communication step the plate moves at the constant
+/// velocity that lands it on plate_position + plate_velocity (t - t_set); a jump it could
+/// reach only faster than max_plate_speed is refused before any work.
+#[test]
+fn a_position_input_lands_the_plate_on_its_extrapolated_target() {
+    let mut c = drop_cfg();
+    c.set("plate_coupling", s("position")).unwrap();
+    let mut sim = Simulation::new(c).unwrap();
+    sim.advance_to(0.001).unwrap();
+    assert_eq!(
+        sim.state().time,
+        0.001,
+        "the steps land on communication points"
+    );
+    sim.set_inputs(
+        sim.inputs()
+            .with("plate_position", 2e-4)
+            .with("plate_velocity", 0.1),
+    )
+    .unwrap();
+    sim.advance_to(0.002).unwrap();
+    let d = sim.outputs().shared.plate_displacement;
+    assert!((d - (2e-4 + 0.1 * 1e-3)).abs() < 1e-15, "{d}");
+    // Inputs held: the target goes on along the same line.
+    sim.advance_to(0.003).unwrap();
+    let d = sim.outputs().shared.plate_displacement;
+    assert!((d - (2e-4 + 0.1 * 2e-3)).abs() < 1e-15, "{d}");
+    // 1 cm in 1 ms is 10 m/s.
+    sim.set_inputs(sim.inputs().with("plate_position", 0.01))
+        .unwrap();
+    let e = sim.advance_to(0.004).unwrap_err().to_string();
+    assert!(
+        e.contains("plate_position = 0.01 m") && e.contains("max_plate_speed"),
+        "{e}"
+    );
+    assert_eq!(sim.time(), 0.003);
+}
+
+/// The jet's inflow: up to max_jet_velocity (0 = its start value).
+#[test]
+fn the_jet_velocity_input_is_held_to_max_jet_velocity() {
+    use viscosph::scene::SceneKind;
+    let mut c = SceneConfig::for_scene(SceneKind::Jet);
+    c.set("particles_per_diameter", common::i(4)).unwrap();
+    let mut sim = Simulation::new(c.clone()).unwrap();
+    let e = sim
+        .set_inputs(sim.inputs().with("jet_velocity", 0.4))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("jet_velocity = 0.4 m/s") && e.contains("max_jet_velocity"),
+        "{e}"
+    );
+    sim.set_inputs(sim.inputs().with("jet_velocity", 0.1))
+        .unwrap();
+    c.set("max_jet_velocity", r(0.4)).unwrap();
+    let mut sim = Simulation::new(c).unwrap();
+    sim.set_inputs(sim.inputs().with("jet_velocity", 0.4))
+        .unwrap();
+}

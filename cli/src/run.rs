@@ -161,7 +161,7 @@ pub fn sound_speed_text(cfg: &SceneConfig, eff: &SceneConfig) -> String {
         format!("sound speed c = {c} m/s (set)")
     } else {
         format!(
-            "sound speed c = {c:.3} m/s (automatic: {} x {:.3} m/s, impact speed plus free fall)",
+            "sound speed c = {c:.3} m/s (automatic: {} x {:.3} m/s, impact speed plus free fall, plus max_plate_speed for the drop)",
             viscosph::config::SOUND_SPEED_FACTOR,
             eff.max_expected_speed()
         )

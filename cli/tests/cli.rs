@@ -162,8 +162,9 @@ fn the_automatic_sound_speed_is_printed_and_recorded() {
         "particles_per_diameter = 12\ninitial_drop_height = 0.013\nimpact_velocity = 3.0\n",
     );
     assert!(out.status.success());
-    // 3 m/s plus a free fall of 3 mm: U = sqrt(9 + 2 * 9.81 * 0.003) = 3.0098 m/s, c = 10 U.
-    let c = 10.0 * (9.0f64 + 2.0 * 9.81 * 0.003).sqrt();
+    // 3 m/s plus a free fall of 3 mm: U = sqrt(9 + 2 * 9.81 * 0.003) = 3.0098 m/s, plus the
+    // default max_plate_speed of 1 m/s: c = 10 (U + 1).
+    let c = 10.0 * ((9.0f64 + 2.0 * 9.81 * 0.003).sqrt() + 1.0);
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(
         stdout.contains(&format!("sound speed c = {c:.3} m/s (automatic")),

@@ -224,14 +224,19 @@ impl<K: Kernel> Boundary for GhostWall<K> {
 /// distance d < 0) is mirrored back across the wall's local tangent (for a plate, across the
 /// plate line), and the part of its velocity (relative to the wall) that runs into the wall
 /// along the normal there is removed (an inelastic contact). Returns the momentum the wall gave
-/// the fluid this way \[kg m/s per m\] and the number of particles put back. Sequential, in
+/// the fluid this way \[kg m/s per m\] and the number of particles put back; `each(i, m)` is told
+/// the momentum m particle i received. Sequential, in
 /// particle order, so the sum is the same on any number of threads. Used by Fang's scheme (see
 /// [`crate::scheme::wcsph`]) and the incompressible one.
-pub fn keep_out_of_wall(fl: &mut Fluid, wall: &Wall) -> (Vec2, u64) {
+pub fn keep_out_of_wall(
+    fl: &mut Fluid,
+    wall: &Wall,
+    mut each: impl FnMut(usize, Vec2),
+) -> (Vec2, u64) {
     let mut momentum = Vec2::zeros();
     let mut count = 0;
     let uw = wall.wall_velocity();
-    for (x, v) in fl.x.iter_mut().zip(fl.v.iter_mut()) {
+    for (i, (x, v)) in fl.x.iter_mut().zip(fl.v.iter_mut()).enumerate() {
         let d = wall.signed_distance(x);
         if d < 0.0 {
             let n = wall.normal(x);
@@ -240,6 +245,7 @@ pub fn keep_out_of_wall(fl: &mut Fluid, wall: &Wall) -> (Vec2, u64) {
             if vn < 0.0 {
                 *v -= n * vn;
                 momentum -= n * (vn * fl.mass);
+                each(i, -n * (vn * fl.mass));
             }
             count += 1;
         }
@@ -269,7 +275,7 @@ mod tests {
             ..Default::default()
         };
         let before = fl.clone();
-        let (momentum, count) = keep_out_of_wall(&mut fl, &Wall::from(pl.clone()));
+        let (momentum, count) = keep_out_of_wall(&mut fl, &Wall::from(pl.clone()), |_, _| {});
         assert_eq!(count, 2);
         assert_eq!((fl.x[0], fl.v[0]), (before.x[0], before.v[0]));
         assert!((pl.d(&fl.x[1]) - 0.003).abs() < 1e-15 && (pl.s(&fl.x[1]) - 0.01).abs() < 1e-15);

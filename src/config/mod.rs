@@ -27,7 +27,7 @@ pub use numerics::{
     CONFORMATION_METHODS, EQUATIONS_OF_STATE, ISPH_FRAMES, ISPH_FREE_SURFACES, SOUND_SPEED_FACTOR,
     VISCOUS_OPERATORS, VISCOUS_STEPS, WALL_BOUNDARIES,
 };
-pub use plate::PlateParams;
+pub use plate::{PlateCoupling, PlateParams, PLATE_COUPLINGS};
 pub use spec::{
     enumeration, integer, range_text, real, real_pos, Checked, ConfigError, Kind, ParamGroup,
     ParamSpec, ParamValue, Value,

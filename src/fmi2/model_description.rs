@@ -91,6 +91,7 @@ const UNITS: &[UnitDef] = &[
     unit("s", 0, 0, 1),
     unit("N/m", 1, 0, -2),
     unit("J/m", 1, 1, -2),
+    unit("N.m/m", 1, 1, -2),
     unit("m2/s", 0, 2, -1),
     unit("Pa", 1, -1, -2),
     unit("kg/m", 1, -1, 0),

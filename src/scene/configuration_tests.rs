@@ -15,18 +15,26 @@ fn defaults_are_fang_oldroyd_b() {
 }
 
 #[test]
-fn automatic_sound_speed_follows_the_impact() {
+fn automatic_sound_speed_follows_the_impact_and_the_plate_inputs() {
     // Fang's drop: V = 1 m/s, centre 4 cm above the plate, so 3 cm of free fall before the
-    // drop touches: U = sqrt(1 + 2 * 9.81 * 0.03) = 1.2604 m/s, c = 12.60 m/s (Fang: 12.5).
+    // drop touches: U = sqrt(1 + 2 * 9.81 * 0.03) = 1.2604 m/s. The plate inputs may drive the
+    // plate into it at max_plate_speed = 1 m/s: c = 10 (U + 1 m/s) = 22.60 m/s.
     let mut c = SceneConfig::default();
     let u = (1.0f64 + 2.0 * 9.81 * 0.03).sqrt();
-    assert!((c.max_expected_speed() - u).abs() < 1e-12);
-    assert!((c.resolved_sound_speed() - 10.0 * u).abs() < 1e-12);
+    assert_eq!(c.plate.max_plate_speed, 1.0);
+    assert!((c.max_expected_speed() - (u + 1.0)).abs() < 1e-12);
+    assert!((c.resolved_sound_speed() - 10.0 * (u + 1.0)).abs() < 1e-12);
+    // A fixed plate: Fang's 12.5 m/s, within 1 %.
+    c.plate.max_plate_speed = 0.0;
     assert!((c.resolved_sound_speed() - 12.5).abs() / 12.5 < 0.01);
     // Five times faster: five times the sound speed, nearly.
     c.drop.impact_velocity = 5.0;
     assert!((c.resolved_sound_speed() - 10.0 * (25.0f64 + 0.5886).sqrt()).abs() < 1e-9);
+    // A plate driven at up to 5 m/s adds its speed.
+    c.plate.max_plate_speed = 5.0;
+    assert!((c.resolved_sound_speed() - 10.0 * ((25.0f64 + 0.5886).sqrt() + 5.0)).abs() < 1e-9);
     // On an inclined plate the drop meets the plate earlier: less free fall.
+    c.plate.max_plate_speed = 0.0;
     c.drop.impact_velocity = 0.0;
     c.plate.plate_inclination = 60.0;
     let fall: f64 = 0.04 - 0.01 / 0.5;
@@ -34,6 +42,17 @@ fn automatic_sound_speed_follows_the_impact() {
     // An explicit value wins.
     c.numerics.sound_speed = 30.0;
     assert_eq!(c.resolved_sound_speed(), 30.0);
+}
+
+#[test]
+fn the_jets_automatic_sound_speed_covers_its_largest_inflow() {
+    let mut c = SceneConfig::for_scene(SceneKind::Jet);
+    let fall = 2.0 * 9.81 * c.jet.nozzle_height;
+    // 0 = the start value of jet_velocity.
+    assert_eq!(c.jet.max_jet_velocity, 0.0);
+    assert!((c.max_expected_speed() - (0.04 + fall).sqrt()).abs() < 1e-12);
+    c.jet.max_jet_velocity = 2.0;
+    assert!((c.max_expected_speed() - (4.0 + fall).sqrt()).abs() < 1e-12);
 }
 
 #[test]
@@ -166,7 +185,8 @@ fn string_twins_set_the_enumeration_by_name() {
             "isph_frame_name",
             "isph_viscous_step_name",
             "isph_free_surface_name",
-            "wall_boundary_name"
+            "wall_boundary_name",
+            "plate_coupling_name"
         ]
     );
     assert!(name_variable("plate_inclination_name").is_none());
@@ -196,7 +216,7 @@ fn inputs_are_the_input_rows_and_are_checked() {
     let i = c.inputs();
     assert_eq!(
         i.iter().map(|(n, _)| n).collect::<Vec<_>>(),
-        ["plate_velocity", "jet_velocity"]
+        ["plate_velocity", "plate_position", "jet_velocity"]
     );
     c.apply_inputs(&i.clone().with("plate_velocity", 0.5))
         .unwrap();

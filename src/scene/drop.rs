@@ -1,11 +1,12 @@
 //! The drop impact of Fang 2006 section 4: a disc cut from a Cartesian lattice, moving
 //! vertically down at the impact velocity towards a rigid plate.
 
-use super::{Scene, SceneConfig, SceneType};
+use super::{Outputs, Scene, SceneConfig, SceneType};
 use crate::boundary::plate::{Motion, Plate};
 use crate::boundary::wall::Wall;
 use crate::config::{real, real_pos, ConfigError};
-use crate::diagnostics::NoOutputs;
+use crate::diagnostics::OutputGroup;
+use crate::state::State;
 use crate::particles::Fluid;
 use crate::{Mat2, Vec2};
 
@@ -19,6 +20,113 @@ crate::params! {
         initial_drop_height: f64 = real_pos(0.04, 100.0), vr 7, unit "m", alias "drop_height";
             "Height of the drop centre above the impact point at t = 0, measured vertically (scene files may also call it drop_height)",
     }
+}
+
+/// Number of bins of the load along the plate (`wall_pressure_001..`, `wall_shear_001..`).
+pub const WALL_BINS: usize = 24;
+
+/// The bins cover the plate from `-WALL_BIN_SPAN / 2` to `+WALL_BIN_SPAN / 2` drop diameters
+/// about the impact point, in the plate's frame: 6 D, bins D / 4 long, wider than a drop ever
+/// spreads on a level plate (Fang 2006: W* < 3).
+pub const WALL_BIN_SPAN: f64 = 6.0;
+
+crate::outputs! {
+    /// The drop's own outputs: the load along the plate (see [`load_outputs`]).
+    pub struct DropOutputs {
+        wall_pressure_001: vr 122, unit "Pa"; "Drop: normal load on bin 1 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
+        wall_pressure_002: vr 123, unit "Pa"; "Drop: normal load on bin 2 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
+        wall_pressure_003: vr 124, unit "Pa"; "Drop: normal load on bin 3 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
+        wall_pressure_004: vr 125, unit "Pa"; "Drop: normal load on bin 4 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
+        wall_pressure_005: vr 126, unit "Pa"; "Drop: normal load on bin 5 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
+        wall_pressure_006: vr 127, unit "Pa"; "Drop: normal load on bin 6 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
+        wall_pressure_007: vr 128, unit "Pa"; "Drop: normal load on bin 7 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
+        wall_pressure_008: vr 129, unit "Pa"; "Drop: normal load on bin 8 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
+        wall_pressure_009: vr 130, unit "Pa"; "Drop: normal load on bin 9 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
+        wall_pressure_010: vr 131, unit "Pa"; "Drop: normal load on bin 10 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
+        wall_pressure_011: vr 132, unit "Pa"; "Drop: normal load on bin 11 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
+        wall_pressure_012: vr 133, unit "Pa"; "Drop: normal load on bin 12 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
+        wall_pressure_013: vr 134, unit "Pa"; "Drop: normal load on bin 13 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
+        wall_pressure_014: vr 135, unit "Pa"; "Drop: normal load on bin 14 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
+        wall_pressure_015: vr 136, unit "Pa"; "Drop: normal load on bin 15 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
+        wall_pressure_016: vr 137, unit "Pa"; "Drop: normal load on bin 16 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
+        wall_pressure_017: vr 138, unit "Pa"; "Drop: normal load on bin 17 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
+        wall_pressure_018: vr 139, unit "Pa"; "Drop: normal load on bin 18 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
+        wall_pressure_019: vr 140, unit "Pa"; "Drop: normal load on bin 19 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
+        wall_pressure_020: vr 141, unit "Pa"; "Drop: normal load on bin 20 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
+        wall_pressure_021: vr 142, unit "Pa"; "Drop: normal load on bin 21 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
+        wall_pressure_022: vr 143, unit "Pa"; "Drop: normal load on bin 22 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
+        wall_pressure_023: vr 144, unit "Pa"; "Drop: normal load on bin 23 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
+        wall_pressure_024: vr 145, unit "Pa"; "Drop: normal load on bin 24 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
+        wall_shear_001: vr 146, unit "Pa"; "Drop: tangential load on bin 1 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
+        wall_shear_002: vr 147, unit "Pa"; "Drop: tangential load on bin 2 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
+        wall_shear_003: vr 148, unit "Pa"; "Drop: tangential load on bin 3 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
+        wall_shear_004: vr 149, unit "Pa"; "Drop: tangential load on bin 4 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
+        wall_shear_005: vr 150, unit "Pa"; "Drop: tangential load on bin 5 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
+        wall_shear_006: vr 151, unit "Pa"; "Drop: tangential load on bin 6 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
+        wall_shear_007: vr 152, unit "Pa"; "Drop: tangential load on bin 7 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
+        wall_shear_008: vr 153, unit "Pa"; "Drop: tangential load on bin 8 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
+        wall_shear_009: vr 154, unit "Pa"; "Drop: tangential load on bin 9 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
+        wall_shear_010: vr 155, unit "Pa"; "Drop: tangential load on bin 10 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
+        wall_shear_011: vr 156, unit "Pa"; "Drop: tangential load on bin 11 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
+        wall_shear_012: vr 157, unit "Pa"; "Drop: tangential load on bin 12 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
+        wall_shear_013: vr 158, unit "Pa"; "Drop: tangential load on bin 13 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
+        wall_shear_014: vr 159, unit "Pa"; "Drop: tangential load on bin 14 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
+        wall_shear_015: vr 160, unit "Pa"; "Drop: tangential load on bin 15 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
+        wall_shear_016: vr 161, unit "Pa"; "Drop: tangential load on bin 16 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
+        wall_shear_017: vr 162, unit "Pa"; "Drop: tangential load on bin 17 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
+        wall_shear_018: vr 163, unit "Pa"; "Drop: tangential load on bin 18 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
+        wall_shear_019: vr 164, unit "Pa"; "Drop: tangential load on bin 19 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
+        wall_shear_020: vr 165, unit "Pa"; "Drop: tangential load on bin 20 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
+        wall_shear_021: vr 166, unit "Pa"; "Drop: tangential load on bin 21 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
+        wall_shear_022: vr 167, unit "Pa"; "Drop: tangential load on bin 22 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
+        wall_shear_023: vr 168, unit "Pa"; "Drop: tangential load on bin 23 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
+        wall_shear_024: vr 169, unit "Pa"; "Drop: tangential load on bin 24 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
+        wall_moment: vr 170, unit "N.m/m"; "Drop: moment about the impact point of the fluid's normal force on the plate per unit depth [N m/m], sum of s F_n: positive when the load downhill of the impact point (s > 0) dominates (0 in other scenes)",
+        wall_centre_of_pressure: vr 171, unit "m"; "Drop: where along the plate the normal force acts, wall_moment / wall_force_normal, from the impact point, positive downhill; 0 while the normal force is 0 (0 in other scenes)",
+    }
+}
+
+/// The load along the plate from the plate's force by fluid particle (`State::plate_load`):
+/// each particle's share goes to the bin of its along-plate coordinate s, the normal part
+/// (into the plate) to `wall_pressure_k`, the tangential part (downhill) to `wall_shear_k`,
+/// each divided by the bin length, so the bins integrate (sum times bin length) to
+/// `wall_force_normal` and `wall_force_tangential` when the wetted plate lies within the span.
+/// In 2D a force per unit depth over a length is a pressure [Pa]. The moment about the impact
+/// point is sum s F_n over every particle (the tangential forces act on the plate line through
+/// it), and the centre of pressure is the moment over the normal force. Zero when the scheme does
+/// not give the load by particle (isph).
+pub fn load_outputs(st: &State, cfg: &SceneConfig) -> DropOutputs {
+    let mut out = DropOutputs::default();
+    let Some(plate) = st.plate() else {
+        return out;
+    };
+    if st.plate_load.len() != st.fluid.len() {
+        return out;
+    }
+    let width = WALL_BIN_SPAN * cfg.drop.drop_diameter / WALL_BINS as f64;
+    let s0 = -0.5 * WALL_BIN_SPAN * cfg.drop.drop_diameter;
+    let (mut normal, mut tangential) = ([0.0; WALL_BINS], [0.0; WALL_BINS]);
+    let (mut moment, mut total) = (0.0, 0.0);
+    for (x, f) in st.fluid.x.iter().zip(&st.plate_load) {
+        let s = plate.s(x);
+        let f_n = -f.dot(&plate.n);
+        moment += s * f_n;
+        total += f_n;
+        let k = ((s - s0) / width).floor();
+        if k >= 0.0 && k < WALL_BINS as f64 {
+            normal[k as usize] += f_n;
+            tangential[k as usize] += f.dot(&plate.t);
+        }
+    }
+    let centre = if total != 0.0 { moment / total } else { 0.0 };
+    let values: Vec<f64> = normal
+        .iter()
+        .chain(&tangential)
+        .map(|f| f / width)
+        .chain([moment, if centre.is_finite() { centre } else { 0.0 }])
+        .collect();
+    out.take_values(&values);
+    out
 }
 
 /// Build the fluid of a drop: lattice points (i + 1/2) dx, (j + 1/2) dx about the drop centre in
@@ -62,12 +170,21 @@ impl SceneType for Drop {
     const NAME: &'static str = "drop";
     const DESCRIPTION: &'static str = "2D drop falling onto a straight rigid plate";
     type Params = DropParams;
-    type Outputs = NoOutputs;
+    type Outputs = DropOutputs;
 }
 
 impl Scene for Drop {
     fn has_moving_plate(&self) -> bool {
         true
+    }
+
+    /// The shared outputs and the load along the plate ([`load_outputs`]).
+    fn outputs(&self, st: &State, cfg: &SceneConfig) -> Outputs {
+        Outputs {
+            shared: cfg.shared_outputs(st),
+            drop: load_outputs(st, cfg),
+            ..Default::default()
+        }
     }
 
     /// The plate under the drop, moved by the input `plate_velocity`.
@@ -81,14 +198,17 @@ impl Scene for Drop {
     }
 
     /// The impact speed plus the free fall from the initial height until the drop's lowest
-    /// point touches the plate, sqrt(V^2 + 2 g h_fall). A drop that spreads or slides
-    /// afterwards does not speed up much beyond it (viscosity and the plate take energy out).
+    /// point touches the plate, sqrt(V^2 + 2 g h_fall), plus `max_plate_speed`: the fluid
+    /// meets the plate at the sum of the two speeds when the plate inputs drive the plate into
+    /// the drop as fast as the run allows. A drop that spreads or slides afterwards does not
+    /// speed up much beyond it (viscosity and the plate take energy out).
     fn max_expected_speed(&self, cfg: &SceneConfig) -> f64 {
         let d = &cfg.drop;
         let theta = cfg.plate.plate_inclination.to_radians();
         let fall = (d.initial_drop_height - 0.5 * d.drop_diameter / theta.cos()).max(0.0);
         let v = d.impact_velocity;
-        (v * v + 2.0 * cfg.fluid.gravity * fall).sqrt().max(1e-3)
+        let drop = (v * v + 2.0 * cfg.fluid.gravity * fall).sqrt();
+        (drop + cfg.plate.max_plate_speed).max(1e-3)
     }
 
     /// The fluid and the plate's wall particles (four rows, twenty diameters long).

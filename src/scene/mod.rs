@@ -107,6 +107,14 @@ pub trait Scene: Send + Sync {
         Domain::OPEN
     }
 
+    /// Whether the scene's own inputs in `now` lie within the range a run set up with `setup`
+    /// (the configuration it was built from: start values and limits, which resolved the sound
+    /// speed) can take; the message names the input, its value and the parameter to raise.
+    /// The plate's inputs are checked for every scene (`Simulation::set_inputs`).
+    fn check_input_range(&self, _setup: &SceneConfig, _now: &SceneConfig) -> Result<(), String> {
+        Ok(())
+    }
+
     /// Largest distance from the origin a particle may reach before the run stops \[m\].
     fn domain_radius(&self, cfg: &SceneConfig) -> f64;
 

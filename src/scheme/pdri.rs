@@ -147,6 +147,7 @@ impl<K: Kernel, R: Rheology> Scheme for Pdri<K, R> {
         c.refresh_neighbors(&st.fluid.x, &mut st.walls);
         let r0 = c.rates(&st.fluid, &st.walls);
         let per_wall0 = c.wall_on_fluid_per_wall(r0.wall_on_fluid, st.fluid.mass);
+        let load0 = st.plate.map(|k| c.wall_on_particles(k, st.fluid.mass));
         let factor = c.p.dt_factor.min(REN_DT_FACTOR);
         let dt_stable = c.stable_dt(&st.fluid, &r0, factor, false); // eq. (25c)
         let dt = dt_stable.min(max_dt);
@@ -183,6 +184,14 @@ impl<K: Kernel, R: Rheology> Scheme for Pdri<K, R> {
             .map(|(a, b)| -(a + b) * 0.5)
             .collect();
         st.book_wall_forces(per_wall, dt);
+        // The plate's load by particle: the same average of the two evaluations.
+        st.plate_load = match (load0, st.plate) {
+            (Some(a), Some(k)) => {
+                let b = self.core.wall_on_particles(k, st.fluid.mass);
+                a.iter().zip(&b).map(|(a, b)| -(a + b) * 0.5).collect()
+            }
+            _ => Vec::new(),
+        };
         st.last_dt = dt_stable;
         let interval = self.core.p.reinit_interval;
         if interval > 0 && (st.step + 1).is_multiple_of(interval) {

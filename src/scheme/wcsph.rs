@@ -81,14 +81,29 @@ impl<K: Kernel, R: Rheology> Scheme for Wcsph<K, R> {
         std::mem::swap(&mut st.fluid, &mut self.next);
         let mut contact = Vec2::zeros();
         let mut per_wall = c.wall_on_fluid_per_wall(r1.wall_on_fluid, st.fluid.mass);
-        for (wall, on_fluid) in st.walls.iter().zip(per_wall.iter_mut()) {
-            let (m, reflections) = keep_out_of_wall(&mut st.fluid, wall);
+        // The plate's load by particle: minus the corrector's force of its virtual particles
+        // on each, and the momentum its contact gives a particle over the step.
+        let plate = st.plate;
+        let mut load: Vec<Vec2> = plate.map_or_else(Vec::new, |k| {
+            c.wall_on_particles(k, st.fluid.mass)
+                .iter()
+                .map(|f| -f)
+                .collect()
+        });
+        for (k, (wall, on_fluid)) in st.walls.iter().zip(per_wall.iter_mut()).enumerate() {
+            let own = plate == Some(k);
+            let (m, reflections) = keep_out_of_wall(&mut st.fluid, wall, |i, m| {
+                if own {
+                    load[i] -= m / dt;
+                }
+            });
             contact += m;
             st.wall_reflections += reflections;
             // The force of the fluid on this wall alone.
             *on_fluid = -*on_fluid - m / dt;
         }
         st.book_wall_forces(per_wall, dt);
+        st.plate_load = load;
         // Force of the fluid on the plate is minus the force of the wall particles on the fluid
         // (and minus the contact momentum over the step); integrating it with the corrector's
         // own rates makes the momentum balance exact.

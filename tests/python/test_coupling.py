@@ -87,7 +87,7 @@ def test_a_fixed_parameter_is_refused_after_initialization_naming_the_inputs(unz
     s.initialize()
     with pytest.raises(FMICallException):
         s.fmu.setReal([s.vr["impact_velocity"], s.vr["plate_velocity"]], [2.0, 0.1])
-    assert "only inputs (plate_velocity, jet_velocity) can be set" in log.text()
+    assert "only inputs (plate_velocity, plate_position, jet_velocity) can be set" in log.text()
     s.free()
 
 
@@ -166,3 +166,44 @@ def test_osp_example_runs_the_two_drop_system_in_libcosim_like_fmpy(fmu, tmp_pat
     assert np.abs(f_ref - f_n).max() <= 1e-9 * scale
     assert np.abs(x_ref - x_n).max() <= 1e-12 + 1e-9 * np.abs(x_ref).max()
     assert (tmp_path / "osp_drops.png").stat().st_size > 10_000
+
+
+def test_a_jacobi_master_with_the_position_input_does_not_drift(fmu):
+    """examples/spring_plate.py as a Jacobi master: with the plate's velocity alone the plate
+    drifts from the Gauss-Seidel run; with plate_coupling = position and the plate's position
+    and velocity it stays within 0.5 % of the Gauss-Seidel run's largest displacement."""
+    start = {"rheology_name": "newtonian", **DROP}
+    stop = 0.025
+    runs = {c: spring_plate.run(fmu, 0.314, 3.1e4, 20.0, H, stop, start, coupling=c)
+            for c in spring_plate.COUPLINGS}
+    x = {c: np.array([r["plate_x"] for r in rows]) for c, rows in runs.items()}
+    gs = x["gauss-seidel"]
+    scale = np.abs(gs).max()
+    assert scale > 1e-5
+    drift = {c: np.abs(x[c] - gs).max() / scale for c in x}
+    assert drift["jacobi-position"] < 0.005, drift
+    assert drift["jacobi-position"] < drift["jacobi-velocity"], drift
+    # the FMU's plate follows the master's to within one step's extrapolation
+    rows = runs["jacobi-position"]
+    gap = max(abs(r["plate_displacement"] - r["plate_x"]) for r in rows)
+    assert gap < 0.005 * scale, gap
+
+
+def test_libcosim_with_the_position_input_follows_the_gauss_seidel_run(fmu, tmp_path):
+    """examples/osp/run_osp.py --coupling position (a Jacobi coupling in libcosim): the
+    Newtonian drop's plate stays within 0.5 % of the Gauss-Seidel fmpy run's largest
+    displacement."""
+    stop = 0.025
+    r = subprocess.run([sys.executable, str(ROOT / "examples" / "osp" / "run_osp.py"),
+                        "--stop", str(stop), "--coupling", "position", "--out", str(tmp_path)],
+                       capture_output=True, text=True, cwd=ROOT)
+    assert r.returncode == 0, r.stdout + r.stderr
+    rows = [x for x in csv.DictReader(open(tmp_path / "osp_drops.csv"))
+            if x["simulator"] == "newtonian"]
+    ref = spring_plate.run(fmu, 0.314, 3.1e4, 20.0, H, stop,
+                           {"rheology_name": "newtonian", **DROP})
+    x_ref = np.array([r_["plate_x"] for r_ in ref[1:]])
+    x = np.array([float(x["plate_x"]) for x in rows])
+    assert len(x) == len(x_ref)
+    scale = np.abs(x_ref).max()
+    assert np.abs(x - x_ref).max() < 0.005 * scale

@@ -112,6 +112,9 @@ fn any_vr() -> impl Strategy<Value = u32> + Clone {
         "threads",
         "equation_of_state",
         "plate_velocity",
+        "plate_position",
+        "plate_coupling",
+        "max_plate_speed",
         "jet_velocity",
     ]
     .iter()

@@ -493,6 +493,28 @@ impl Instance {
                 let start = s.start_time;
                 let budget = s.budget();
                 let sim = s.sim.as_mut().expect("a simulation exists in StepComplete");
+                // Inputs set beyond the run's range (fmi2SetReal answered fmi2Warning) are
+                // refused here, before any work; so is a plate position the plate cannot reach
+                // within max_plate_speed.
+                let inputs = s.cfg.inputs();
+                let refusal = if sim.inputs() != inputs {
+                    sim.set_inputs(inputs).err()
+                } else {
+                    None
+                };
+                if let Some(e) = refusal.or_else(|| sim.check_step(target - start).err()) {
+                    return match e {
+                        SimError::InputOutOfRange(m) => {
+                            s.phase = Phase::StepFailed;
+                            s.resumable = true;
+                            s.wants_to_terminate = false;
+                            Err(Fail::Discard(format!(
+                                "{m}. Nothing was computed (the outputs and fmi2LastSuccessfulTime stay at t = {t} s)"
+                            )))
+                        }
+                        e => error(e.to_string()),
+                    };
+                }
                 let dt = Some(sim.state().last_dt).filter(|&dt| dt > 0.0).or(s.first_dt);
                 if let Some(dt) = dt {
                     let what = format!("communicationStepSize = {h} s");

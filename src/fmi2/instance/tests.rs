@@ -545,3 +545,61 @@ fn an_input_set_after_the_first_step_moves_the_plate_from_there() {
         assert!((d.abs() - 0.485 * h).abs() < 1e-15, "ppd {ppd}: {d}");
     }
 }
+
+/// An input beyond the range the run was set up for: fmi2SetReal keeps it with a warning,
+/// fmi2DoStep discards before any work with a message naming the input, its value and the
+/// parameter to raise; the outputs stay those of the last communication point. A run set up
+/// for it (max_plate_speed raised) takes the same value.
+#[test]
+fn a_plate_input_beyond_max_plate_speed_is_discarded_by_name() {
+    let (mut i, log) = small_drop(&[("initial_drop_height", 0.012)], None, None);
+    assert_eq!(i.do_step(0.0, 1e-3), Status::Ok);
+    let before = outputs_of(&mut i);
+    assert_eq!(
+        i.set_real(&[vr("plate_velocity")], &[-5.0]),
+        Status::Warning
+    );
+    assert_eq!(i.do_step(1e-3, 1e-3), Status::Discard);
+    let msg = last_message(&log);
+    for part in [
+        "plate_velocity = -5 m/s",
+        "max_plate_speed = 1 m/s",
+        "at least 5 m/s",
+        "Nothing was computed",
+    ] {
+        assert!(msg.contains(part), "{part}: {msg}");
+    }
+    assert_eq!(i.phase(), Phase::StepFailed);
+    assert!(i.resumable());
+    assert_eq!(outputs_of(&mut i), before, "nothing was computed");
+    let mut t = 0.0;
+    assert_eq!(i.get_real_status(2, &mut t), Status::Ok);
+    assert_eq!(t, 1e-3);
+    // Within the range: the same value runs.
+    let (mut j, _) = small_drop(
+        &[("initial_drop_height", 0.012), ("max_plate_speed", 5.0)],
+        None,
+        None,
+    );
+    assert_eq!(j.set_real(&[vr("plate_velocity")], &[-5.0]), Status::Ok);
+    assert_eq!(j.do_step(0.0, 2e-3), Status::Ok);
+    let d = outputs_of(&mut j)[OUTPUTS
+        .iter()
+        .position(|o| o.name == "plate_displacement")
+        .unwrap()];
+    assert!((d + 5.0 * 2e-3).abs() < 1e-15, "{d}");
+}
+
+/// A value set back within the range after the warning is put in force, and the step runs.
+#[test]
+fn an_input_set_back_within_the_range_runs() {
+    let (mut i, _) = small_drop(&[("initial_drop_height", 0.012)], None, None);
+    assert_eq!(i.set_real(&[vr("plate_velocity")], &[2.0]), Status::Warning);
+    assert_eq!(i.set_real(&[vr("plate_velocity")], &[0.5]), Status::Ok);
+    assert_eq!(i.do_step(0.0, 1e-3), Status::Ok);
+    let d = outputs_of(&mut i)[OUTPUTS
+        .iter()
+        .position(|o| o.name == "plate_displacement")
+        .unwrap()];
+    assert!((d - 0.5e-3).abs() < 1e-15, "{d}");
+}

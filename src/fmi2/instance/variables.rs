@@ -269,16 +269,30 @@ impl Instance {
                         _ => return Err(wrong_type(vr, &var, "Set")),
                     }
                 }
+                let mut status = Status::Ok;
                 if stepping {
                     // Inputs act from this communication point on (the simulation lands on it
-                    // exactly, going back one internal step if it had passed it).
+                    // exactly, going back one internal step if it had passed it). An input
+                    // beyond the range the run was set up for is kept here but not put in
+                    // force: the next fmi2DoStep is discarded unless a value within it is set
+                    // first (`Instance::do_step`).
                     let sim = s.sim.as_mut().expect("a simulation exists in StepComplete");
-                    sim.set_inputs(cfg.inputs())
-                        .map_err(|e| Fail::Error(e.to_string()))?;
+                    match sim.set_inputs(cfg.inputs()) {
+                        Ok(()) => {}
+                        Err(SimError::InputOutOfRange(m)) => {
+                            s.log(
+                                Category::Warning,
+                                Status::Warning,
+                                &format!("{func}: {m}; the next fmi2DoStep will be discarded unless a value within it is set first"),
+                            );
+                            status = Status::Warning;
+                        }
+                        Err(e) => return error(e.to_string()),
+                    }
                 }
                 s.cfg = cfg;
                 s.preview = None;
-                Ok(Status::Ok)
+                Ok(status)
             },
         )
     }

@@ -67,6 +67,8 @@ crate::params! {
             "Jet scene: height of the nozzle exit above the impact point, measured vertically (King & Lind 2021: 12 D)",
         jet_velocity: f64 = real(0.2, 0.0, 100.0), vr 47, unit "m/s", input;
             "Input: jet scene: speed of the fluid leaving the nozzle, vertically down (King & Lind 2021: 0.2 m/s). A co-simulation master (a pump or valve model) may change it at every communication point; this is its start value, which also sets the automatic sound speed",
+        max_jet_velocity: f64 = real(0.0, 0.0, 100.0), vr 67, unit "m/s";
+            "Jet scene: largest jet_velocity the input may drive in this run, which the automatic sound speed covers; 0 = jet_velocity's start value. An input asking for more is refused by name (the FMU: fmi2Discard)",
         container_width: f64 = real(0.0, 0.0, 100.0), vr 48, unit "m";
             "Jet scene: distance between the container's side walls, centred on the impact point and perpendicular to the plate; 0 = no side walls",
     }
@@ -82,6 +84,12 @@ crate::outputs! {
 
 /// The jet scene.
 pub struct Jet;
+
+/// The largest inflow speed of a run set up with `cfg` (its start values): `max_jet_velocity`,
+/// or the start value of `jet_velocity` if that is larger (so 0 means the start value).
+pub fn max_jet_velocity(cfg: &SceneConfig) -> f64 {
+    cfg.jet.max_jet_velocity.max(cfg.jet.jet_velocity)
+}
 
 /// What a jet gets for the keys a scene file leaves out, over the parameter table's defaults
 /// (which are Fang's drop): King & Lind 2021 section IV.D's Oldroyd-B jet, D = 6 mm,
@@ -144,10 +152,10 @@ impl Scene for Jet {
         cfg.jet.jet_width
     }
 
-    /// The free-fall speed at the plate, sqrt(U0^2 + 2 g H), with U0 = `jet_velocity` and
-    /// H = `nozzle_height`.
+    /// The free-fall speed at the plate, sqrt(U0^2 + 2 g H), with U0 the largest inflow speed
+    /// of the run ([`max_jet_velocity`]) and H = `nozzle_height`.
     fn max_expected_speed(&self, cfg: &SceneConfig) -> f64 {
-        let u0 = cfg.jet.jet_velocity;
+        let u0 = max_jet_velocity(cfg);
         (u0 * u0 + 2.0 * cfg.fluid.gravity * cfg.jet.nozzle_height)
             .sqrt()
             .max(1e-3)
@@ -155,6 +163,19 @@ impl Scene for Jet {
 
     fn domain_radius(&self, cfg: &SceneConfig) -> f64 {
         1000.0 * cfg.jet.jet_width + 10.0 * cfg.jet.nozzle_height
+    }
+
+    /// `jet_velocity` up to [`max_jet_velocity`] of the setup.
+    fn check_input_range(&self, setup: &SceneConfig, now: &SceneConfig) -> Result<(), String> {
+        let (u, max) = (now.jet.jet_velocity, max_jet_velocity(setup));
+        if u > max {
+            return Err(format!(
+                "jet_velocity = {u} m/s is beyond {max} m/s, the largest inflow speed this run was set up \
+                 for (max_jet_velocity, 0 = the start value of jet_velocity; the automatic sound speed \
+                 covers it): set max_jet_velocity to at least {u} m/s before initialization"
+            ));
+        }
+        Ok(())
     }
 
     /// King & Lind 2021 eq. (35a)'s normal stress: with p = 0 the column does not buckle.

@@ -106,7 +106,7 @@ impl<R: Rheology> Isph<R> {
         }
         let mut contact = Vec2::zeros();
         for wall in &st.walls {
-            let (m, reflections) = keep_out_of_wall(&mut st.fluid, wall);
+            let (m, reflections) = keep_out_of_wall(&mut st.fluid, wall, |_, _| {});
             contact += m;
             st.wall_reflections += reflections;
         }

@@ -193,6 +193,20 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
         out
     }
 
+    /// Force of wall `wall`'s virtual particles on each fluid particle at the last rate
+    /// evaluation [N/m]: the terms whose sum over the particles is that wall's share of
+    /// [`StageReport::wall_on_fluid`] (see [`WcCore::wall_on_fluid_per_wall`]).
+    pub fn wall_on_particles(&self, wall: usize, mass: f64) -> Vec<Vec2> {
+        let nw = self.walls.len();
+        if nw <= 1 {
+            return self.wall_acc.iter().map(|a| a * mass).collect();
+        }
+        self.wall_split
+            .chunks(nw)
+            .map(|chunk| chunk[wall] * mass)
+            .collect()
+    }
+
     /// Whether the viscous force goes through Morris' Laplacian (EVSS, or chosen).
     fn laplacian(&self) -> bool {
         self.evss.is_on() || self.p.viscous_laplacian
