@@ -31,10 +31,12 @@
 //! ```
 
 mod d2;
+mod d3;
 mod lattice;
 pub mod symmetric;
 
 pub use d2::SymEigen;
+pub use d3::D3;
 pub use lattice::Lattice;
 pub use nalgebra::Const;
 

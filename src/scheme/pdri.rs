@@ -189,7 +189,7 @@ impl<K: Kernel, R: Rheology> Scheme for Pdri<K, R> {
             self.core.refresh_neighbors(&st.fluid.x, &mut st.walls);
             self.reinitialise_density(&mut st.fluid);
         }
-        st.void_fraction = check_health::<R>(&self.core.p, st)?;
+        st.void_fraction = check_health::<R, _>(&self.core.p, st)?;
         Ok(dt)
     }
 
