@@ -13,6 +13,7 @@ use viscosph::neighbors::Domain;
 use viscosph::particles::Fluid;
 use viscosph::rheology::Newtonian;
 use viscosph::scheme::params::Params;
+use viscosph::scheme::pdri::{mls_density, Pdri};
 use viscosph::scheme::wcsph::Wcsph;
 use viscosph::scheme::Scheme;
 use viscosph::{SceneConfig, State};
@@ -121,6 +122,13 @@ fn a_shear_wave_decays_at_the_viscous_rate_in_three_dimensions() {
 /// weight the fluid did not turn into momentum, and nothing crosses the wall.
 #[test]
 fn fluid_rests_on_a_plane_wall_in_three_dimensions() {
+    fluid_rests_on_a_plane_wall("wcsph");
+    fluid_rests_on_a_plane_wall("pdri");
+}
+
+/// [`fluid_rests_on_a_plane_wall_in_three_dimensions`] under the scheme `scheme` (PDRI: with
+/// its MLS density reinitialisation every `density_reinit_interval` steps, in 3D).
+fn fluid_rests_on_a_plane_wall(scheme_name: &str) {
     const G: f64 = 9.81;
     let (n, m, dx, c, rho0) = (8usize, 16usize, 0.001, 10.0, 1000.0);
     let l = n as f64 * dx;
@@ -161,15 +169,15 @@ fn fluid_rests_on_a_plane_wall_in_three_dimensions() {
     let walls = vec![Wall::from(plate)];
     let kernel = CubicSplineKernel::<3>::new(cfg.numerics.smoothing_ratio * dx);
     let dummy = DummyWall::new(kernel, p.domain, dx, p.gravity);
-    let mut scheme = Wcsph::with_walls(
-        kernel,
-        Newtonian::new(0.05),
-        p.clone(),
-        vec![Box::new(dummy) as Box<dyn Boundary<3>>],
-    );
+    let walls_model = vec![Box::new(dummy) as Box<dyn Boundary<3>>];
+    let model = Newtonian::new(0.05);
+    let mut scheme: Box<dyn Scheme<3>> = match scheme_name {
+        "wcsph" => Box::new(Wcsph::with_walls(kernel, model, p.clone(), walls_model)),
+        _ => Box::new(Pdri::with_walls(kernel, model, p.clone(), walls_model)),
+    };
     let mut st = State::<3>::new(fluid, walls, Some(0));
     let m_total = st.fluid.mass * st.fluid.len() as f64;
-    let t_end = 0.03;
+    let t_end = 0.02;
     while st.time < t_end {
         let max_dt = t_end - st.time;
         let dt = scheme.step(&mut st, max_dt).expect("healthy step");
@@ -198,7 +206,7 @@ fn fluid_rests_on_a_plane_wall_in_three_dimensions() {
     let gravity = p.gravity * m_total * st.time;
     let balance = momentum - gravity + st.wall_impulse;
     eprintln!(
-        "plane wall: {} particles, {} steps, max speed {:.3e} U, gradient {slope:.4} of -rho g, \
+        "{scheme_name}, plane wall: {} particles, {} steps, max speed {:.3e} U, gradient {slope:.4} of -rho g, \
          momentum balance {:.3e} of the weight's impulse",
         fl.len(),
         st.step,
@@ -215,4 +223,34 @@ fn fluid_rests_on_a_plane_wall_in_three_dimensions() {
         st.wall_impulse
     );
     assert!(fl.x.iter().all(|x| x.z > 0.0), "nothing crossed the wall");
+}
+
+/// Ren 2015's MLS density (eqs. 18a-18c) through the (N + 1) x (N + 1) moment matrix of the
+/// dimension: in 3D as in 2D it reproduces a linear density field exactly (C^0 and C^1
+/// consistency), at a corner of a cubic block, on an edge, on a face and inside.
+#[test]
+fn mls_density_reproduces_a_linear_field_in_three_dimensions() {
+    let (n, dx) = (8usize, 0.1f64);
+    let g = Vector::<3>::new(0.05, -0.03, 0.02);
+    let mut f = Fluid::<3> {
+        mass: 1000.0 * dx.powi(3),
+        ..Default::default()
+    };
+    for q in 0..n * n * n {
+        let x = Vector::<3>::new((q % n) as f64, ((q / n) % n) as f64, (q / (n * n)) as f64) * dx;
+        f.x.push(x);
+        f.v.push(Vector::zeros());
+        f.rho.push(1000.0 * (1.0 + g.dot(&x)));
+    }
+    let k = CubicSplineKernel::<3>::new(1.5 * dx);
+    let list: Vec<u32> = (0..f.len() as u32).collect();
+    let inside = 4 + 4 * n + 4 * n * n;
+    for i in [0, 3, 3 + 4 * n, inside, f.len() - 1] {
+        let rho = mls_density(&k, &Domain::OPEN, &f, &list, i);
+        assert!(
+            (rho - f.rho[i]).abs() < 1e-9 * f.rho[i],
+            "particle {i}: {rho} vs {}",
+            f.rho[i]
+        );
+    }
 }

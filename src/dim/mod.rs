@@ -33,6 +33,7 @@
 mod d2;
 mod d3;
 mod lattice;
+pub mod mls;
 pub mod symmetric;
 
 pub use d2::SymEigen;
