@@ -41,22 +41,15 @@ fn a_shear_wave_decays_at_the_viscous_rate_in_three_dimensions() {
         .with_period(0, l)
         .with_period(1, l)
         .with_period(2, l);
-    let mut fluid = Fluid::<3> {
-        mass: rho0 * dx.powi(3),
-        ..Default::default()
-    };
-    for q in 0..n * n * n {
-        let x = Vector::<3>::new(
-            (q % n) as f64 + 0.5,
-            ((q / n) % n) as f64 + 0.5,
-            (q / (n * n)) as f64 + 0.5,
-        ) * dx;
-        fluid.x.push(x);
-        fluid
-            .v
-            .push(Vector::<3>::new(u * (k * x.z).sin(), 0.0, 0.0));
-        fluid.rho.push(rho0);
-    }
+    let fluid = lattice(
+        n,
+        n,
+        dx,
+        0.5,
+        rho0,
+        |x| Vector::<3>::new(u * (k * x.z).sin(), 0.0, 0.0),
+        |_| rho0,
+    );
     let amplitude = |f: &Fluid<3>| {
         2.0 * f
             .x
@@ -141,22 +134,15 @@ fn fluid_rests_on_a_plane_wall(scheme_name: &str) {
     p.domain_radius = 1.0;
     p.fracture_void_fraction = 0.0;
     assert_eq!(p.gravity, Vector::<3>::new(0.0, 0.0, -G));
-    let mut fluid = Fluid::<3> {
-        mass: rho0 * dx.powi(3),
-        ..Default::default()
-    };
-    for q in 0..n * n * m {
-        let x = Vector::<3>::new(
-            (q % n) as f64 + 0.5,
-            ((q / n) % n) as f64 + 0.5,
-            (q / (n * n)) as f64 + 0.5,
-        ) * dx;
-        fluid.x.push(x);
-        fluid.v.push(Vector::zeros());
-        fluid
-            .rho
-            .push(p.eos.density_for_pressure(rho0 * G * (top - x.z)));
-    }
+    let fluid = lattice(
+        n,
+        m,
+        dx,
+        0.5,
+        rho0,
+        |_| Vector::zeros(),
+        |x| p.eos.density_for_pressure(rho0 * G * (top - x.z)),
+    );
     let mut plate = Plate::through(
         Vector::<3>::new(0.5 * dx, 0.5 * dx, 0.0),
         Vector::<3>::z(),
@@ -232,16 +218,15 @@ fn fluid_rests_on_a_plane_wall(scheme_name: &str) {
 fn mls_density_reproduces_a_linear_field_in_three_dimensions() {
     let (n, dx) = (8usize, 0.1f64);
     let g = Vector::<3>::new(0.05, -0.03, 0.02);
-    let mut f = Fluid::<3> {
-        mass: 1000.0 * dx.powi(3),
-        ..Default::default()
-    };
-    for q in 0..n * n * n {
-        let x = Vector::<3>::new((q % n) as f64, ((q / n) % n) as f64, (q / (n * n)) as f64) * dx;
-        f.x.push(x);
-        f.v.push(Vector::zeros());
-        f.rho.push(1000.0 * (1.0 + g.dot(&x)));
-    }
+    let f = lattice(
+        n,
+        n,
+        dx,
+        0.0,
+        1000.0,
+        |_| Vector::zeros(),
+        |x| 1000.0 * (1.0 + g.dot(x)),
+    );
     let k = CubicSplineKernel::<3>::new(1.5 * dx);
     let list: Vec<u32> = (0..f.len() as u32).collect();
     let inside = 4 + 4 * n + 4 * n * n;
@@ -253,4 +238,29 @@ fn mls_density_reproduces_a_linear_field_in_three_dimensions() {
             f.rho[i]
         );
     }
+}
+
+/// Fluid on the cubic lattice of spacing `dx`, n x n x `layers` particles at
+/// ((i, j, k) + `offset`) dx, each of mass rho0 dx^3, with velocity `v(x)` and density `rho(x)`.
+fn lattice(
+    n: usize,
+    layers: usize,
+    dx: f64,
+    offset: f64,
+    rho0: f64,
+    v: impl Fn(&Vector<3>) -> Vector<3>,
+    rho: impl Fn(&Vector<3>) -> f64,
+) -> Fluid<3> {
+    let mut f = Fluid::<3> {
+        mass: rho0 * dx.powi(3),
+        ..Default::default()
+    };
+    for q in 0..n * n * layers {
+        let ijk = Vector::<3>::new((q % n) as f64, ((q / n) % n) as f64, (q / (n * n)) as f64);
+        let x = ijk.add_scalar(offset) * dx;
+        f.x.push(x);
+        f.v.push(v(&x));
+        f.rho.push(rho(&x));
+    }
+    f
 }

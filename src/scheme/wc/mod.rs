@@ -479,6 +479,32 @@ where
     }
 }
 
+/// What pass 1 derives for a particle of density `rho` from its velocity gradient `kappa`, its
+/// polymer stress `tau` (elastic models) and its kernel Hessian sum `hess`: the viscosity of
+/// Morris' Laplacian, the total stress (Fang 2006 eq. 8 with the pressure of the equation of
+/// state) and the artificial stress. Every dimension's pass 1 ends with it.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn particle_stress<R: Rheology, const N: usize>(
+    model: &R,
+    p: &Params<N>,
+    art: &ArtificialStress,
+    evss: &Evss,
+    laplacian: bool,
+    kappa: &Tensor<N>,
+    tau: Option<&Tensor<N>>,
+    rho: f64,
+    hess: &Tensor<N>,
+) -> (f64, Tensor<N>, Tensor<N>)
+where
+    Const<N>: Dim,
+{
+    let eta = model.solvent_viscosity(kappa);
+    let sigma = stress::assemble(p.eos.pressure(rho), eta, kappa, tau, evss, laplacian);
+    let art = art.of_particle(&sigma, rho, hess);
+    (evss.viscous_viscosity(eta), sigma, art)
+}
+
 /// `out = base + rate * dt`, element by element, in parallel.
 fn add_scaled<T>(out: &mut Vec<T>, base: &[T], rate: &[T], dt: f64)
 where

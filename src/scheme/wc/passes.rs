@@ -365,19 +365,10 @@ impl<K: Kernel, R: Rheology> WcCore<K, R, 2> {
                     *kappa_i = kin.kappa;
                     *drho_i = kin.continuity * mass;
                     *hess_i = hess;
-                    let eta = model.solvent_viscosity(&kin.kappa);
-                    *mu_i = evss.viscous_viscosity(eta);
                     let tau = R::ELASTIC.then(|| &tau_p[i]);
-                    let sigma = stress::assemble(
-                        p.eos.pressure(fl.rho[i]),
-                        eta,
-                        &kin.kappa,
-                        tau,
-                        &evss,
-                        laplacian,
+                    (*mu_i, *sigma_i, *art_i) = particle_stress(
+                        model, p, art, &evss, laplacian, &kin.kappa, tau, fl.rho[i], &hess,
                     );
-                    *sigma_i = sigma;
-                    *art_i = art.of_particle(&sigma, fl.rho[i], &hess);
                 },
             );
     }
