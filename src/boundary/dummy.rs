@@ -22,58 +22,45 @@
 
 use super::wall::Wall;
 use super::Boundary;
+use crate::dim::{Const, Tensor, Vector};
 use crate::kernel::Kernel;
-use crate::neighbors::{CellGrid, Domain, NeighborList};
+use crate::neighbors::{Domain, Grid, NeighborList};
 use crate::particles::Fluid;
-use crate::{Mat2, Vec2};
+use crate::Vec2;
 
-/// Dummy wall particles of one wall (module documentation).
-#[derive(Debug, Clone)]
-pub struct DummyWall<K: Kernel> {
-    kernel: K,
-    domain: Domain,
-    /// Particle spacing.
-    dx: f64,
-    /// Body force per unit mass (gravity).
-    gravity: Vec2,
-    /// Layers of particles: enough to fill the kernel support.
-    layers: usize,
-    /// The positions placed at the last [`Boundary::place`].
-    x: Vec<Vec2>,
-    /// Fluid neighbours of each dummy particle.
-    list: NeighborList,
+/// Where a dimension puts the dummy particles of a wall: `layers` layers at the spacing `dx`
+/// inside the solid. Along a plate the layers sit on the plate's columns (s = k dx) and, in 3D,
+/// on rows along the plate's second tangent `lateral` covers; a circle or sphere gets shells.
+pub trait DummyLayout<const N: usize> {
+    /// The dummy particles of `wall` (module documentation), `lateral` the rows along a
+    /// plate's second tangent (ignored in 2D).
+    fn layout(wall: &Wall<N>, layers: usize, dx: f64, lateral: &Lateral) -> Vec<Vector<N>>;
 }
 
-impl<K: Kernel> DummyWall<K> {
-    pub fn new(kernel: K, domain: Domain, dx: f64, gravity: Vec2) -> Self {
-        let layers = (kernel.radius() / dx).ceil() as usize;
-        Self {
-            kernel,
-            domain,
-            dx,
-            gravity,
-            layers,
-            x: Vec::new(),
-            list: NeighborList::default(),
-        }
-    }
+/// The rows a plate's dummy particles cover along its second tangent (3D): `l_min..=l_max`
+/// at offsets l dx from the plate's origin, rebuilt at every [`Boundary::place`] to cover the
+/// fluid (one period where the domain is periodic along that tangent).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Lateral {
+    l_min: i64,
+    l_max: i64,
+}
 
-    /// The positions of the dummy particles of `wall` (its columns built so far, for a plate).
-    pub fn layout(&self, wall: &Wall) -> Vec<Vec2> {
-        let dx = self.dx;
+impl DummyLayout<2> for Const<2> {
+    fn layout(wall: &Wall, layers: usize, dx: f64, _: &Lateral) -> Vec<Vec2> {
         let mut out = Vec::new();
         match wall {
             Wall::Straight(p) => {
                 for c in 0..p.columns() {
                     let s = p.column_s(c);
-                    for k in 0..self.layers {
+                    for k in 0..layers {
                         out.push(p.point(s, -(k as f64 + 0.5) * dx));
                     }
                 }
             }
             Wall::Circle(c) => {
                 let b = c.ball;
-                for k in 0..self.layers {
+                for k in 0..layers {
                     // Into the solid: inwards for a cylinder, outwards for a tank.
                     let r = b.radius - b.fluid.sign() * (k as f64 + 0.5) * dx;
                     if r <= 0.0 {
@@ -88,7 +75,137 @@ impl<K: Kernel> DummyWall<K> {
                 }
             }
         }
-        if self.domain.period_x.is_some() {
+        out
+    }
+}
+
+impl DummyLayout<3> for Const<3> {
+    /// On a plane: the columns along the downhill tangent t times the rows along b = n x t.
+    /// In a sphere's shells: the points of a Fibonacci lattice, about dx apart.
+    fn layout(wall: &Wall<3>, layers: usize, dx: f64, lateral: &Lateral) -> Vec<Vector<3>> {
+        let mut out = Vec::new();
+        match wall {
+            Wall::Straight(p) => {
+                let b = p.n.cross(&p.t);
+                for c in 0..p.columns() {
+                    let s = p.column_s(c);
+                    for l in lateral.l_min..=lateral.l_max {
+                        for k in 0..layers {
+                            out.push(p.point(s, -(k as f64 + 0.5) * dx) + b * (l as f64 * dx));
+                        }
+                    }
+                }
+            }
+            Wall::Circle(c) => {
+                let ball = c.ball;
+                let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+                for k in 0..layers {
+                    let r = ball.radius - ball.fluid.sign() * (k as f64 + 0.5) * dx;
+                    if r <= 0.0 {
+                        break;
+                    }
+                    let n =
+                        ((4.0 * std::f64::consts::PI * r * r / (dx * dx)).round() as usize).max(1);
+                    for j in 0..n {
+                        let z = 1.0 - (2.0 * j as f64 + 1.0) / n as f64;
+                        let rho = (1.0 - z * z).sqrt();
+                        let a = golden * j as f64;
+                        out.push(
+                            ball.centre + r * Vector::<3>::new(rho * a.cos(), rho * a.sin(), z),
+                        );
+                    }
+                }
+            }
+        }
+        out
+    }
+}
+
+impl Lateral {
+    /// The rows along plate `wall`'s second tangent b (3D) that cover the points `x` with
+    /// `margin` to spare, or one period of `domain` where b is a periodic axis; none in 2D.
+    fn covering<const N: usize>(
+        wall: &Wall<N>,
+        x: &[Vector<N>],
+        margin: f64,
+        dx: f64,
+        domain: &Domain,
+    ) -> Self {
+        let Some(p) = wall.plate().filter(|_| N == 3) else {
+            return Self::default();
+        };
+        // b = n x t, written out for N = 3.
+        let b = Vector::<N>::from_fn(|a, _| {
+            let (i, j) = ((a + 1) % 3, (a + 2) % 3);
+            p.n[i] * p.t[j] - p.n[j] * p.t[i]
+        });
+        if let Some(l) = (0..N)
+            .find(|&a| b[a].abs() == 1.0)
+            .and_then(|a| domain.period(a))
+        {
+            return Self {
+                l_min: 0,
+                l_max: (l / dx).round() as i64 - 1,
+            };
+        }
+        let (lo, hi) = x
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), q| {
+                let s = (q - p.origin).dot(&b);
+                (lo.min(s), hi.max(s))
+            });
+        if !lo.is_finite() {
+            return Self::default();
+        }
+        Self {
+            l_min: ((lo - margin) / dx).floor() as i64,
+            l_max: ((hi + margin) / dx).ceil() as i64,
+        }
+    }
+}
+
+/// Dummy wall particles of one wall (module documentation), in N dimensions.
+#[derive(Debug, Clone)]
+pub struct DummyWall<K: Kernel<N>, const N: usize = 2> {
+    kernel: K,
+    domain: Domain,
+    /// Particle spacing.
+    dx: f64,
+    /// Body force per unit mass (gravity).
+    gravity: Vector<N>,
+    /// Layers of particles: enough to fill the kernel support.
+    layers: usize,
+    /// A plate's rows along its second tangent (3D), as of the last [`Boundary::place`].
+    lateral: Lateral,
+    /// The positions placed at the last [`Boundary::place`].
+    x: Vec<Vector<N>>,
+    /// Fluid neighbours of each dummy particle.
+    list: NeighborList,
+}
+
+impl<K: Kernel<N>, const N: usize> DummyWall<K, N>
+where
+    Const<N>: DummyLayout<N>,
+{
+    pub fn new(kernel: K, domain: Domain, dx: f64, gravity: Vector<N>) -> Self {
+        let layers = (kernel.radius() / dx).ceil() as usize;
+        Self {
+            kernel,
+            domain,
+            dx,
+            gravity,
+            layers,
+            lateral: Lateral::default(),
+            x: Vec::new(),
+            list: NeighborList::default(),
+        }
+    }
+
+    /// The positions of the dummy particles of `wall` (its columns built so far, for a plate),
+    /// inside the periodic box if the domain has one.
+    pub fn layout(&self, wall: &Wall<N>) -> Vec<Vector<N>> {
+        let mut out = Const::<N>::layout(wall, self.layers, self.dx, &self.lateral);
+        if self.domain.is_periodic() {
             out.iter_mut().for_each(|p| *p = self.domain.wrap(*p));
         }
         out
@@ -96,7 +213,7 @@ impl<K: Kernel> DummyWall<K> {
 
     /// Shepard sums over the fluid neighbours of dummy particle `k`: sum W, and `f(j, W)` for
     /// every neighbour j with W > 0.
-    fn shepard(&self, fluid: &Fluid, k: usize, mut f: impl FnMut(usize, f64, Vec2)) -> f64 {
+    fn shepard(&self, fluid: &Fluid<N>, k: usize, mut f: impl FnMut(usize, f64, Vector<N>)) -> f64 {
         let xw = self.x[k];
         let r2max = self.kernel.radius().powi(2);
         let mut sw = 0.0;
@@ -114,28 +231,32 @@ impl<K: Kernel> DummyWall<K> {
     }
 }
 
-impl<K: Kernel> Boundary for DummyWall<K> {
+impl<K: Kernel<N>, const N: usize> Boundary<N> for DummyWall<K, N>
+where
+    Const<N>: DummyLayout<N>,
+{
     fn place(
         &mut self,
-        wall: &mut Wall,
-        fluid_x: &[Vec2],
-        fluid_grid: &CellGrid,
+        wall: &mut Wall<N>,
+        fluid_x: &[Vector<N>],
+        fluid_grid: &Grid<N>,
         radius: f64,
-        out: &mut Vec<Vec2>,
+        out: &mut Vec<Vector<N>>,
     ) {
         if let Some(p) = wall.plate_mut() {
             // Columns only where fluid comes near, as for Fang's and Ren's walls.
             p.cover_points(fluid_x, 3.0 * radius);
         }
+        self.lateral = Lateral::covering(wall, fluid_x, 3.0 * radius, self.dx, &self.domain);
         self.x = self.layout(wall);
         out.extend_from_slice(&self.x);
         self.list = NeighborList::build(fluid_grid, fluid_x, &self.x, radius, &self.domain);
     }
 
-    fn fill_velocities(&self, wall: &Wall, fluid: &Fluid, out: &mut [Vec2]) {
+    fn fill_velocities(&self, wall: &Wall<N>, fluid: &Fluid<N>, out: &mut [Vector<N>]) {
         let uw = wall.wall_velocity();
         for (k, o) in out.iter_mut().enumerate() {
-            let mut su = Vec2::zeros();
+            let mut su = Vector::zeros();
             let sw = self.shepard(fluid, k, |j, w, _| su += fluid.v[j] * w);
             *o = if sw > 0.0 { 2.0 * uw - su / sw } else { uw };
         }
@@ -143,27 +264,27 @@ impl<K: Kernel> Boundary for DummyWall<K> {
 
     fn fill_stresses(
         &self,
-        _wall: &Wall,
-        fluid: &Fluid,
-        sigma: &[Mat2],
-        _tau_p: &[Mat2],
-        out: &mut [Mat2],
+        _wall: &Wall<N>,
+        fluid: &Fluid<N>,
+        sigma: &[Tensor<N>],
+        _tau_p: &[Tensor<N>],
+        out: &mut [Tensor<N>],
     ) {
         for (k, o) in out.iter_mut().enumerate() {
-            let (mut ss, mut sr) = (Mat2::zeros(), Vec2::zeros());
+            let (mut ss, mut sr) = (Tensor::zeros(), Vector::zeros());
             let sw = self.shepard(fluid, k, |j, w, rwf| {
                 ss += sigma[j] * w;
                 sr += rwf * (fluid.rho[j] * w);
             });
             *o = if sw > 0.0 {
-                (ss - Mat2::identity() * self.gravity.dot(&sr)) / sw
+                (ss - Tensor::identity() * self.gravity.dot(&sr)) / sw
             } else {
-                Mat2::zeros()
+                Tensor::zeros()
             };
         }
     }
 
-    fn positions(&self, wall: &Wall) -> Vec<Vec2> {
+    fn positions(&self, wall: &Wall<N>) -> Vec<Vector<N>> {
         self.layout(wall)
     }
 }

@@ -12,6 +12,7 @@
 
 use super::wall::Wall;
 use super::Boundary;
+use crate::dim::Vector;
 use crate::geometry::Shape;
 use crate::kernel::Kernel;
 use crate::neighbors::{CellGrid, Domain, NeighborList};
@@ -228,12 +229,12 @@ impl<K: Kernel> Boundary for GhostWall<K> {
 /// the momentum m particle i received. Sequential, in
 /// particle order, so the sum is the same on any number of threads. Used by Fang's scheme (see
 /// [`crate::scheme::wcsph`]) and the incompressible one.
-pub fn keep_out_of_wall(
-    fl: &mut Fluid,
-    wall: &Wall,
-    mut each: impl FnMut(usize, Vec2),
-) -> (Vec2, u64) {
-    let mut momentum = Vec2::zeros();
+pub fn keep_out_of_wall<const N: usize>(
+    fl: &mut Fluid<N>,
+    wall: &Wall<N>,
+    mut each: impl FnMut(usize, Vector<N>),
+) -> (Vector<N>, u64) {
+    let mut momentum = Vector::zeros();
     let mut count = 0;
     let uw = wall.wall_velocity();
     for (i, (x, v)) in fl.x.iter_mut().zip(fl.v.iter_mut()).enumerate() {

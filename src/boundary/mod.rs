@@ -32,10 +32,10 @@ pub mod wall;
 pub mod wall_profile;
 
 use crate::config::WallBoundary;
+use crate::dim::{Tensor, Vector};
 use crate::geometry::Shape;
-use crate::neighbors::CellGrid;
+use crate::neighbors::Grid;
 use crate::particles::Fluid;
-use crate::{Mat2, Vec2};
 use wall::Wall;
 
 /// The wall models, as `wall_boundary` names them.
@@ -58,7 +58,11 @@ pub enum Model {
 /// the weakly compressible schemes read the virtual particles' total stress, which mirrors do
 /// not carry) or the shape does not fit (image and ghost particles are built along a straight
 /// wall) is refused, naming the parameter.
-pub fn resolve(choice: WallBoundary, paper: Model, wall: &Wall) -> Result<Model, String> {
+pub fn resolve<const N: usize>(
+    choice: WallBoundary,
+    paper: Model,
+    wall: &Wall<N>,
+) -> Result<Model, String> {
     let incompressible = paper == Model::Mirror;
     let model = match choice {
         WallBoundary::Auto if wall.is_straight() => paper,
@@ -93,36 +97,37 @@ pub fn resolve(choice: WallBoundary, paper: Model, wall: &Wall) -> Result<Model,
     Ok(model)
 }
 
-/// A wall model acting on the fluid through virtual particles.
-pub trait Boundary: Send + Sync {
+/// A wall model acting on the fluid through virtual particles, in N space dimensions
+/// (`Boundary` alone: two).
+pub trait Boundary<const N: usize = 2>: Send + Sync {
     /// Grow `wall` to cover the fluid at `fluid_x`, append the positions of this wall's virtual
     /// particles to `out`, and rebuild whatever the fill steps need (`fluid_grid` bins `fluid_x`
     /// with cells of side `radius`, the search radius).
     fn place(
         &mut self,
-        wall: &mut Wall,
-        fluid_x: &[Vec2],
-        fluid_grid: &CellGrid,
+        wall: &mut Wall<N>,
+        fluid_x: &[Vector<N>],
+        fluid_grid: &Grid<N>,
         radius: f64,
-        out: &mut Vec<Vec2>,
+        out: &mut Vec<Vector<N>>,
     );
 
     /// Velocities of this wall's virtual particles (in the order of [`Boundary::place`]).
-    fn fill_velocities(&self, wall: &Wall, fluid: &Fluid, out: &mut [Vec2]);
+    fn fill_velocities(&self, wall: &Wall<N>, fluid: &Fluid<N>, out: &mut [Vector<N>]);
 
     /// Stresses of this wall's virtual particles from the fluid's total stresses `sigma` and
     /// elastic stresses `tau_p` (empty for inelastic models).
     fn fill_stresses(
         &self,
-        wall: &Wall,
-        fluid: &Fluid,
-        sigma: &[Mat2],
-        tau_p: &[Mat2],
-        out: &mut [Mat2],
+        wall: &Wall<N>,
+        fluid: &Fluid<N>,
+        sigma: &[Tensor<N>],
+        tau_p: &[Tensor<N>],
+        out: &mut [Tensor<N>],
     );
 
     /// Positions of the virtual particles placed at the last [`Boundary::place`], for output.
-    fn positions(&self, wall: &Wall) -> Vec<Vec2>;
+    fn positions(&self, wall: &Wall<N>) -> Vec<Vector<N>>;
 
     /// The fluid particle each virtual particle of the last [`Boundary::place`] continues across
     /// the wall, in the order of `place`, for a model whose virtual particles each follow one
@@ -140,7 +145,7 @@ pub trait Boundary: Send + Sync {
     /// `u_m = 2 u_wall - u_parent`, so a particle and its virtual twin average to the wall's
     /// velocity there. The default is the wall's rigid motion (the same at every point); a
     /// wall that rotates or deforms overrides it.
-    fn wall_velocities(&self, wall: &Wall, out: &mut Vec<Vec2>) {
+    fn wall_velocities(&self, wall: &Wall<N>, out: &mut Vec<Vector<N>>) {
         out.extend(std::iter::repeat_n(
             wall.wall_velocity(),
             self.parents().len(),

@@ -13,6 +13,7 @@
 //! along -n); `displacement` is how far it has moved so far. What sets the velocity is the
 //! wall's own [`Motion`], and the wall integrates its own pose ([`Plate::advance`]).
 
+use crate::dim::Vector;
 use crate::geometry::HalfPlane;
 use crate::Vec2;
 use serde::{Deserialize, Serialize};
@@ -59,19 +60,22 @@ impl Prescribed {
     }
 }
 
-/// The plate and the range of columns built so far.
+/// The plate and the range of columns built so far. In N dimensions the plate is the plane
+/// through `origin` with normal `n`, and `t` is a downhill unit tangent in it; the columns of
+/// virtual particles run along `t` (one row of them: the two-dimensional wall models' layout;
+/// covering the plane's other tangent directions is left to the three-dimensional wall models).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Plate {
+pub struct Plate<const N: usize = 2> {
     /// A point of the plate line: s = d = 0 there \[m\].
-    pub origin: Vec2,
+    pub origin: Vector<N>,
     /// Velocity of the plate along its normal, positive away from the fluid (along -n) [m/s].
     pub velocity: f64,
     /// Distance the plate has moved along -n since t = 0 \[m\].
     pub displacement: f64,
     /// Downhill unit tangent.
-    pub t: Vec2,
+    pub t: Vector<N>,
     /// Unit normal into the fluid.
-    pub n: Vec2,
+    pub n: Vector<N>,
     /// Column spacing (the particle spacing).
     pub dx: f64,
     /// First and last column index (inclusive); `k_min > k_max` means no column yet.
@@ -87,6 +91,8 @@ pub struct Plate {
 }
 
 impl Plate {
+    /// A plate through the origin inclined at `inclination_deg` to the horizontal, downhill
+    /// towards +x.
     pub fn new(inclination_deg: f64, dx: f64) -> Self {
         let a = inclination_deg.to_radians();
         Self {
@@ -119,6 +125,26 @@ impl Plate {
             motion: Motion::Fixed,
         }
     }
+}
+
+impl<const N: usize> Plate<N> {
+    /// A plate of any dimension: the plane through `origin` with unit normal `n` into the
+    /// fluid and downhill unit tangent `t` (orthogonal to `n`), columns growing with the fluid.
+    pub fn through(origin: Vector<N>, n: Vector<N>, t: Vector<N>, dx: f64) -> Self {
+        debug_assert!(n.dot(&t).abs() < 1e-12);
+        Self {
+            origin,
+            velocity: 0.0,
+            displacement: 0.0,
+            t,
+            n,
+            dx,
+            k_min: 0,
+            k_max: -1,
+            fixed: false,
+            motion: Motion::Fixed,
+        }
+    }
 
     /// The same wall moved by `motion` (a prescribed motion starts at its velocity at t = 0).
     pub fn with_motion(mut self, motion: Motion) -> Self {
@@ -145,26 +171,26 @@ impl Plate {
 
     /// The solid's shape: the half-plane below the plate line.
     #[inline]
-    pub fn shape(&self) -> HalfPlane<2> {
+    pub fn shape(&self) -> HalfPlane<N> {
         HalfPlane::new(self.origin, self.n)
     }
 
     /// Along-plate coordinate s (positive downhill) of a point.
     #[inline]
-    pub fn s(&self, x: &Vec2) -> f64 {
+    pub fn s(&self, x: &Vector<N>) -> f64 {
         (x - self.origin).dot(&self.t)
     }
 
     /// Distance of a point from the plate, positive on the fluid side.
     #[inline]
-    pub fn d(&self, x: &Vec2) -> f64 {
+    pub fn d(&self, x: &Vector<N>) -> f64 {
         use crate::geometry::Shape;
         self.shape().signed_distance(x)
     }
 
     /// Global position of plate coordinates (s, d).
     #[inline]
-    pub fn point(&self, s: f64, d: f64) -> Vec2 {
+    pub fn point(&self, s: f64, d: f64) -> Vector<N> {
         self.origin + (self.t * s + self.n * d)
     }
 
@@ -197,7 +223,7 @@ impl Plate {
 
     /// Grow the column range to cover the points `x` with `margin` to spare at both ends
     /// (nothing without points).
-    pub fn cover_points(&mut self, x: &[Vec2], margin: f64) {
+    pub fn cover_points(&mut self, x: &[Vector<N>], margin: f64) {
         let (lo, hi) = x
             .iter()
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
@@ -217,13 +243,13 @@ impl Plate {
 
     /// Velocity of the plate's material points (a rigid motion along the normal) [m/s].
     #[inline]
-    pub fn wall_velocity(&self) -> Vec2 {
+    pub fn wall_velocity(&self) -> Vector<N> {
         -self.n * self.velocity
     }
 
     /// Positions of `rows` rows of virtual particles, column by column, from the plate line
     /// (d = 0) down to d = -(rows - 1) dx.
-    pub fn virtual_positions(&self, rows: usize) -> Vec<Vec2> {
+    pub fn virtual_positions(&self, rows: usize) -> Vec<Vector<N>> {
         let mut out = Vec::with_capacity(self.columns() * rows);
         for c in 0..self.columns() {
             let s = self.column_s(c);
@@ -236,7 +262,7 @@ impl Plate {
 
     /// Position of the interior point of column c (at d = +dx).
     #[inline]
-    pub fn interior_point(&self, c: usize) -> Vec2 {
+    pub fn interior_point(&self, c: usize) -> Vector<N> {
         self.point(self.column_s(c), self.dx)
     }
 }

@@ -5,41 +5,41 @@
 //! the shape-independent wall models (King & Lind 2021's mirrors) and the contact checks read.
 
 use super::plate::{Motion, Plate};
+use crate::dim::Vector;
 use crate::geometry::{Ball, Shape};
-use crate::Vec2;
 use serde::{Deserialize, Serialize};
 
-/// A circular wall: a fixed cylinder (fluid outside) or circular container (fluid inside).
+/// A circular wall (a sphere in 3D): a fixed cylinder (fluid outside) or circular container (fluid inside).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct CircleWall {
-    pub ball: Ball<2>,
+pub struct CircleWall<const N: usize = 2> {
+    pub ball: Ball<N>,
 }
 
 /// One rigid wall.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub enum Wall {
-    /// A straight wall (the drop's plate, a channel wall, a container's side).
-    Straight(Plate),
-    /// A circle.
-    Circle(CircleWall),
+pub enum Wall<const N: usize = 2> {
+    /// A straight wall (the drop's plate, a channel wall, a container's side); a plane in 3D.
+    Straight(Plate<N>),
+    /// A circle (a sphere in 3D).
+    Circle(CircleWall<N>),
 }
 
-impl From<Plate> for Wall {
-    fn from(p: Plate) -> Self {
+impl<const N: usize> From<Plate<N>> for Wall<N> {
+    fn from(p: Plate<N>) -> Self {
         Wall::Straight(p)
     }
 }
 
-impl From<Ball<2>> for Wall {
-    fn from(ball: Ball<2>) -> Self {
+impl<const N: usize> From<Ball<N>> for Wall<N> {
+    fn from(ball: Ball<N>) -> Self {
         Wall::Circle(CircleWall { ball })
     }
 }
 
-impl Wall {
+impl<const N: usize> Wall<N> {
     /// The straight wall, if this is one.
     #[inline]
-    pub fn plate(&self) -> Option<&Plate> {
+    pub fn plate(&self) -> Option<&Plate<N>> {
         match self {
             Wall::Straight(p) => Some(p),
             Wall::Circle(_) => None,
@@ -48,7 +48,7 @@ impl Wall {
 
     /// The straight wall, mutably, if this is one.
     #[inline]
-    pub fn plate_mut(&mut self) -> Option<&mut Plate> {
+    pub fn plate_mut(&mut self) -> Option<&mut Plate<N>> {
         match self {
             Wall::Straight(p) => Some(p),
             Wall::Circle(_) => None,
@@ -59,14 +59,14 @@ impl Wall {
     /// Ren's virtual particles, the channel's profile fits): configuration validation refuses
     /// those models on any other shape before a simulation is built.
     #[inline]
-    pub fn straight(&self) -> &Plate {
+    pub fn straight(&self) -> &Plate<N> {
         self.plate()
             .expect("a straight-wall model on a curved wall (refused by validation)")
     }
 
     /// [`Wall::straight`], mutably.
     #[inline]
-    pub fn straight_mut(&mut self) -> &mut Plate {
+    pub fn straight_mut(&mut self) -> &mut Plate<N> {
         self.plate_mut()
             .expect("a straight-wall model on a curved wall (refused by validation)")
     }
@@ -84,8 +84,8 @@ impl Wall {
 
     /// Velocity of the wall's material points (a rigid translation) [m/s].
     #[inline]
-    pub fn wall_velocity(&self) -> Vec2 {
-        self.plate().map_or(Vec2::zeros(), |p| p.wall_velocity())
+    pub fn wall_velocity(&self) -> Vector<N> {
+        self.plate().map_or(Vector::zeros(), |p| p.wall_velocity())
     }
 
     /// Move the wall over a step of `dt` that ended at `t` ([`Plate::advance`]).
@@ -96,21 +96,21 @@ impl Wall {
     }
 }
 
-impl Shape<2> for Wall {
+impl<const N: usize> Shape<N> for Wall<N> {
     #[inline]
-    fn signed_distance(&self, x: &Vec2) -> f64 {
+    fn signed_distance(&self, x: &Vector<N>) -> f64 {
         match self {
             Wall::Straight(p) => p.shape().signed_distance(x),
             Wall::Circle(c) => c.ball.signed_distance(x),
         }
     }
-    fn closest_point(&self, x: &Vec2) -> Vec2 {
+    fn closest_point(&self, x: &Vector<N>) -> Vector<N> {
         match self {
             Wall::Straight(p) => p.shape().closest_point(x),
             Wall::Circle(c) => c.ball.closest_point(x),
         }
     }
-    fn normal(&self, x: &Vec2) -> Vec2 {
+    fn normal(&self, x: &Vector<N>) -> Vector<N> {
         match self {
             Wall::Straight(p) => p.n,
             Wall::Circle(c) => c.ball.normal(x),
@@ -119,13 +119,13 @@ impl Shape<2> for Wall {
     fn is_straight(&self) -> bool {
         matches!(self, Wall::Straight(_))
     }
-    fn reflect(&self, x: &Vec2) -> Vec2 {
+    fn reflect(&self, x: &Vector<N>) -> Vector<N> {
         match self {
             Wall::Straight(p) => p.shape().reflect(x),
             Wall::Circle(c) => c.ball.reflect(x),
         }
     }
-    fn reflection_jacobian(&self, x: &Vec2) -> f64 {
+    fn reflection_jacobian(&self, x: &Vector<N>) -> f64 {
         match self {
             Wall::Straight(_) => 1.0,
             Wall::Circle(c) => c.ball.reflection_jacobian(x),

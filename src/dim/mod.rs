@@ -11,8 +11,9 @@
 //! * the free-surface threshold on div r (King & Lind eq. 36), whose full-support value is N.
 //!
 //! [`D2`] (`Const<2>`, in `d2.rs`) uses closed forms, bit for bit those the solver has always
-//! used; a further dimension is one more `impl Dim` that may delegate every tensor function to
-//! the N-generic versions of [`symmetric`] (nalgebra's `SymmetricEigen`). What is the same in
+//! used; [`D3`] (`d3.rs`) delegates every tensor function to the N-generic Jacobi
+//! decomposition of [`symmetric`], as a further dimension would. The small (N+1)x(N+1) solve
+//! of an MLS correction is [`mls::Mls`], one impl per dimension. What is the same in
 //! every dimension is written once for every N elsewhere: kernel normalisation (a table per
 //! kernel in `kernel.rs`), the neighbour grid (cells per axis, a 3^N stencil), the periodic
 //! domain (per axis), the square/cubic [`Lattice`], tr I = N in the rheologies.
@@ -31,10 +32,13 @@
 //! ```
 
 mod d2;
+mod d3;
 mod lattice;
+pub mod mls;
 pub mod symmetric;
 
 pub use d2::SymEigen;
+pub use d3::D3;
 pub use lattice::Lattice;
 pub use nalgebra::Const;
 

@@ -5,33 +5,34 @@
 //! ([`corrected_velocity_gradients`]).
 
 use super::pairs::PairCache;
+use crate::dim::{Tensor, Vector};
 use crate::neighbors::NeighborList;
 use crate::{Mat2, Vec2};
 use rayon::prelude::*;
 
-/// Sums over one particle's pairs.
+/// Sums over one particle's pairs, in N dimensions (`Kinematics` alone: two).
 #[derive(Debug, Clone, Copy)]
-pub struct Kinematics {
+pub struct Kinematics<const N: usize = 2> {
     /// kappa_i = -sum_j V_j v_ij (x) grad_i W_ij, with kappa^{ab} = dv^a/dx^b.
-    pub kappa: Mat2,
+    pub kappa: Tensor<N>,
     /// sum_j v_ij . grad_i W_ij; times the (uniform) particle mass it is d rho_i / dt.
     pub continuity: f64,
 }
 
-impl Default for Kinematics {
+impl<const N: usize> Default for Kinematics<N> {
     fn default() -> Self {
         Self {
-            kappa: Mat2::zeros(),
+            kappa: Tensor::zeros(),
             continuity: 0.0,
         }
     }
 }
 
-impl Kinematics {
+impl<const N: usize> Kinematics<N> {
     /// Add pair (i, j): relative velocity `vij` = v_i - v_j, kernel gradient `grad` = grad_i W_ij,
     /// volume `vol_j` = m_j / rho_j.
     #[inline]
-    pub fn add_pair(&mut self, vij: &Vec2, grad: &Vec2, vol_j: f64) {
+    pub fn add_pair(&mut self, vij: &Vector<N>, grad: &Vector<N>, vol_j: f64) {
         self.kappa -= (vij * grad.transpose()) * vol_j;
         self.continuity += vij.dot(grad);
     }

@@ -9,15 +9,16 @@
 //!   systems' coefficients) share its indexing; `grad` and `morris` are filled, `j` is unused
 //!   (the list holds the indices).
 
+use crate::dim::Vector;
 use crate::neighbors::NeighborList;
-use crate::Vec2;
 
-#[derive(Debug, Clone, Default)]
-pub struct PairCache {
+/// The cache for pairs in N dimensions (`PairCache` alone: two).
+#[derive(Debug, Clone)]
+pub struct PairCache<const N: usize = 2> {
     /// Neighbour index of each used slot (compact layout).
     pub j: Vec<u32>,
     /// grad_i W_ij (zero for the self pair in the full layout).
-    pub grad: Vec<Vec2>,
+    pub grad: Vec<Vector<N>>,
     /// The artificial viscosity Pi_ij (Fang 2006 eqs. 31-33): it depends only on positions,
     /// velocities and densities, all known in the first pass.
     pub pi: Vec<f64>,
@@ -29,13 +30,26 @@ pub struct PairCache {
     pub len: Vec<u32>,
 }
 
-impl PairCache {
+impl<const N: usize> Default for PairCache<N> {
+    fn default() -> Self {
+        Self {
+            j: Vec::new(),
+            grad: Vec::new(),
+            pi: Vec::new(),
+            f: Vec::new(),
+            morris: Vec::new(),
+            len: Vec::new(),
+        }
+    }
+}
+
+impl<const N: usize> PairCache<N> {
     /// Size the arrays for `list` in the compact layout (one slot per stored pair, one length
     /// per query particle).
     pub fn resize_for(&mut self, list: &NeighborList) {
         let n = list.pairs();
         self.j.resize(n, 0);
-        self.grad.resize(n, Vec2::zeros());
+        self.grad.resize(n, Vector::zeros());
         self.pi.resize(n, 0.0);
         self.f.resize(n, 0.0);
         self.len.resize(list.len(), 0);
@@ -46,7 +60,7 @@ impl PairCache {
     pub fn reset_full(&mut self, list: &NeighborList) {
         let n = list.pairs();
         self.grad.clear();
-        self.grad.resize(n, Vec2::zeros());
+        self.grad.resize(n, Vector::zeros());
         self.morris.clear();
         self.morris.resize(n, 0.0);
         self.len.clear();
@@ -65,9 +79,9 @@ impl PairCache {
     /// slot order: zero in a full lattice support, about `-n / delta` where a free surface
     /// truncates it (the weight of the free-surface terms of King & Lind 2021's scheme).
     #[inline]
-    pub fn gradient_sum(&self, list: &NeighborList, i: usize, vol: f64) -> Vec2 {
+    pub fn gradient_sum(&self, list: &NeighborList, i: usize, vol: f64) -> Vector<N> {
         self.grad[self.range(list, i)]
             .iter()
-            .fold(Vec2::zeros(), |a, g| a + g * vol)
+            .fold(Vector::zeros(), |a, g| a + g * vol)
     }
 }

@@ -30,8 +30,8 @@
 //! into chains that the void-fraction check reports as fracture by t* = 2, under both schemes and
 //! both artificial stresses.
 
+use crate::dim::{Tensor, Vector};
 use crate::rheology::Evss;
-use crate::{Mat2, Vec2};
 
 /// Morris' regularisation of the viscous Laplacian, eta^2 = 0.01 h^2 (Morris, Fox & Zhu 1997).
 pub const MORRIS_ETA2: f64 = 0.01;
@@ -41,15 +41,15 @@ pub const MORRIS_ETA2: f64 = 0.01;
 /// `laplacian` (EVSS on, or the `laplacian` viscous operator chosen) the solvent's (and EVSS's
 /// added) eta lap v is left to Morris' Laplacian ([`morris_pair`]).
 #[inline]
-pub fn assemble(
+pub fn assemble<const N: usize>(
     p: f64,
     eta: f64,
-    kappa: &Mat2,
-    tau_p: Option<&Mat2>,
+    kappa: &Tensor<N>,
+    tau_p: Option<&Tensor<N>>,
     evss: &Evss,
     laplacian: bool,
-) -> Mat2 {
-    let mut sigma = Mat2::identity() * (-p);
+) -> Tensor<N> {
+    let mut sigma = Tensor::identity() * (-p);
     if laplacian {
         // King & Lind eqs. (6)-(8), weakly compressible: the Laplacian carries
         // (eta_s + alpha_V eta0) lap v, and since div(2D) = lap v + grad(div v) here, the
@@ -57,9 +57,9 @@ pub fn assemble(
         // eta_s (div v) I, and Phi with the added viscosity taken out of the deviatoric rate of
         // strain only, tau_p - alpha_V eta0 (2D - (div v) I).
         let div = kappa.trace();
-        sigma += Mat2::identity() * (eta * div);
+        sigma += Tensor::identity() * (eta * div);
         if let Some(t) = tau_p {
-            sigma += evss.phi(t, kappa) + Mat2::identity() * (evss.added_viscosity() * div);
+            sigma += evss.phi(t, kappa) + Tensor::identity() * (evss.added_viscosity() * div);
         }
     } else {
         // Fang eq. (8), Ren eq. (16): eta (kappa + kappa^T) in the stress.
@@ -74,23 +74,27 @@ pub fn assemble(
 /// The elastic stress as it enters sigma under EVSS (Phi and its trace term), which is what the
 /// wall's zero-normal-elastic-stress condition removes.
 #[inline]
-pub fn evss_elastic_part(evss: &Evss, tau_p: &Mat2, kappa: &Mat2) -> Mat2 {
-    evss.phi(tau_p, kappa) + Mat2::identity() * (evss.added_viscosity() * kappa.trace())
+pub fn evss_elastic_part<const N: usize>(
+    evss: &Evss,
+    tau_p: &Tensor<N>,
+    kappa: &Tensor<N>,
+) -> Tensor<N> {
+    evss.phi(tau_p, kappa) + Tensor::identity() * (evss.added_viscosity() * kappa.trace())
 }
 
 /// Morris, Fox & Zhu 1997's viscous Laplacian, pair term (per unit mass of j):
 /// (mu_i + mu_j) x_ij . grad W_ij / (rho_i rho_j (r^2 + eta^2)) v_ij.
 #[inline]
 #[allow(clippy::too_many_arguments)]
-pub fn morris_pair(
-    vij: &Vec2,
-    xij: &Vec2,
-    grad: &Vec2,
+pub fn morris_pair<const N: usize>(
+    vij: &Vector<N>,
+    xij: &Vector<N>,
+    grad: &Vector<N>,
     mu_sum: f64,
     rho_i: f64,
     rho_j: f64,
     r2: f64,
     eta2: f64,
-) -> Vec2 {
+) -> Vector<N> {
     vij * (mu_sum * xij.dot(grad) / (rho_i * rho_j * (r2 + eta2)))
 }

@@ -5,9 +5,11 @@
 //! no density to check and reports its void fraction without acting on it.
 
 use super::params::Params;
+use super::wc::WcSpace;
 use crate::boundary::plate::Plate;
 use crate::boundary::wall::Wall;
 use crate::config::ArtificialStressKind;
+use crate::dim::Const;
 use crate::eos::Eos;
 use crate::geometry::{Shape, Side};
 use crate::particles::Fluid;
@@ -25,7 +27,13 @@ const MIN_TASK_LIGHT: usize = 1024;
 
 /// Health of a weakly compressible state after a step: the void fraction, or the cause of a
 /// breakdown.
-pub fn check_health<R: Rheology>(p: &Params, st: &State) -> Result<f64, String> {
+pub fn check_health<R: Rheology, const N: usize>(
+    p: &Params<N>,
+    st: &State<N>,
+) -> Result<f64, String>
+where
+    Const<N>: WcSpace<N>,
+{
     let fl = &st.fluid;
     check_particles(
         fl,
@@ -35,7 +43,10 @@ pub fn check_health<R: Rheology>(p: &Params, st: &State) -> Result<f64, String> 
         R::ELASTIC,
         Some(&p.eos),
     )?;
-    let voids = fluid_void_fraction(fl, st.plate(), &st.walls, p.dx);
+    // A dimension without a void fraction (3D so far) reports none and is not checked.
+    let Some(voids) = Const::<N>::void_fraction(fl, st.plate, &st.walls, p.dx) else {
+        return Ok(0.0);
+    };
     if p.fracture_void_fraction > 0.0 && voids > p.fracture_void_fraction {
         let knob = match p.art_kind {
             ArtificialStressKind::Fang => "artificial_stress_epsilon",
@@ -56,9 +67,9 @@ pub fn check_health<R: Rheology>(p: &Params, st: &State) -> Result<f64, String> 
 /// (the first offender named); then particle by particle the density against `eos`'s rho0 (a
 /// weakly compressible scheme; None: not checked), the domain (`|x| <= domain_radius`) and every
 /// plate (no particle more than [`PENETRATION_DEPTH`] spacings `dx` below it).
-pub fn check_particles(
-    fl: &Fluid,
-    walls: &[Wall],
+pub fn check_particles<const N: usize>(
+    fl: &Fluid<N>,
+    walls: &[Wall<N>],
     dx: f64,
     domain_radius: f64,
     elastic: bool,

@@ -17,10 +17,10 @@ pub mod wcsph;
 
 use crate::boundary::wall::Wall;
 use crate::config::{ConfigError, FluidParams, IsphFrame, IsphFreeSurface, Numerics, ParamSpec};
+use crate::dispatch_rheology;
 use crate::kernel::CubicSpline;
 use crate::rheology::{AnyRheology, Rheology};
 use crate::state::State;
-use crate::{dispatch_rheology, Vec2};
 use isph::Isph;
 use params::Params;
 use pdri::Pdri;
@@ -154,13 +154,14 @@ impl Timings {
     }
 }
 
-/// One SPH scheme instantiated for a concrete kernel and rheology.
-pub trait Scheme: Send {
+/// One SPH scheme instantiated for a concrete kernel and rheology, in N space dimensions
+/// (`Scheme` alone: two).
+pub trait Scheme<const N: usize = 2>: Send {
     /// Advance `state` by one step of at most `max_dt`; returns the step taken, or the cause of
     /// a numerical breakdown.
-    fn step(&mut self, state: &mut State, max_dt: f64) -> Result<f64, String>;
+    fn step(&mut self, state: &mut State<N>, max_dt: f64) -> Result<f64, String>;
     /// Positions of the virtual (wall) particles currently built for the walls of `state`.
-    fn wall_positions(&self, state: &State) -> Vec<Vec2>;
+    fn wall_positions(&self, state: &State<N>) -> Vec<crate::dim::Vector<N>>;
     /// Where the time of the steps went (empty for schemes that time nothing).
     fn timings(&self) -> Timings {
         Timings::default()

@@ -6,12 +6,13 @@ use crate::config::{
     ArtificialStressKind, ConformationMethod, FluidParams, IsphFreeSurface, Numerics,
     ViscousOperator, WallBoundary,
 };
+use crate::dim::Vector;
 use crate::eos::Eos;
 use crate::neighbors::Domain;
-use crate::Vec2;
 
+/// The constants of a scheme in N space dimensions (`Params` alone: two).
 #[derive(Debug, Clone)]
-pub struct Params {
+pub struct Params<const N: usize = 2> {
     /// Equation of state (reference density and sound speed).
     pub eos: Eos,
     /// Monaghan's artificial viscosity alpha and beta (Fang 2006 eq. 31).
@@ -20,7 +21,8 @@ pub struct Params {
     /// Which artificial stress, and its coefficient (Fang's epsilon or Ren's b).
     pub art_kind: ArtificialStressKind,
     pub art_coef: f64,
-    pub gravity: Vec2,
+    /// Body force per unit mass, along -y in 2D and -z in 3D (the last axis) [m/s2].
+    pub gravity: Vector<N>,
     pub dt_factor: f64,
     pub method: ConformationMethod,
     /// EVSS alpha_V / (1 - beta) (King & Lind eqs. 6-8); 0 = off.
@@ -50,6 +52,15 @@ impl Params {
     /// in an open domain with a free surface under gravity (the scene's terms are set over these
     /// by `SceneConfig::scheme_params`).
     pub fn new(f: &FluidParams, n: &Numerics, dx: f64, c: f64) -> Self {
+        Self::in_dimension(f, n, dx, c)
+    }
+}
+
+impl<const N: usize> Params<N> {
+    /// [`Params::new`] in N dimensions, gravity along the last axis.
+    pub fn in_dimension(f: &FluidParams, n: &Numerics, dx: f64, c: f64) -> Self {
+        let mut gravity = Vector::zeros();
+        gravity[N - 1] = -f.gravity;
         Self {
             eos: Eos::new(n.equation_of_state, f.density, c),
             alpha: n.artificial_viscosity_alpha,
@@ -59,7 +70,7 @@ impl Params {
                 ArtificialStressKind::Fang => n.artificial_stress_epsilon,
                 ArtificialStressKind::Ren => n.artificial_stress_b,
             },
-            gravity: Vec2::new(0.0, -f.gravity),
+            gravity,
             dt_factor: n.time_step_factor,
             // The weakly compressible schemes' own choice is the direct update of their papers.
             method: match n.conformation_method {

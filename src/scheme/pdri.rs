@@ -28,17 +28,18 @@
 
 use super::health::check_health;
 use super::params::Params;
-use super::wc::{ghost_walls, WcCore};
+use super::wc::{ghost_walls, WcCore, WcSpace};
 use super::Scheme;
 use crate::boundary::ghost::WallModel;
 use crate::boundary::wall::Wall;
+use crate::boundary::Boundary;
+use crate::dim::mls::Mls;
+use crate::dim::{Const, Dim, Vector};
 use crate::kernel::Kernel;
 use crate::neighbors::Domain;
 use crate::particles::Fluid;
 use crate::rheology::Rheology;
 use crate::state::State;
-use crate::Vec2;
-use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 
 /// Ren 2015 eq. (25c): the safety factor on the sound, force and viscous limits.
@@ -51,14 +52,15 @@ pub const REN_DT_FACTOR: f64 = 0.25;
 /// neighbours all lie on a line (a thin filament) or that have almost none.
 pub const MLS_SINGULAR_DET: f64 = 1e-3;
 
-/// The PDRI-SPH scheme for kernel `K` and rheology `R`.
-pub struct Pdri<K: Kernel, R: Rheology> {
-    core: WcCore<K, R>,
+/// The PDRI-SPH scheme for kernel `K` and rheology `R` in N space dimensions (`Pdri<K, R>`:
+/// two).
+pub struct Pdri<K: Kernel<N>, R: Rheology, const N: usize = 2> {
+    core: WcCore<K, R, N>,
     /// X^n + dt/2 G(X^n), the first half of eq. (25b).
-    first: Fluid,
+    first: Fluid<N>,
     /// The predicted state X~^{n+1} (eq. 25a).
-    pred: Fluid,
-    next: Fluid,
+    pred: Fluid<N>,
+    next: Fluid<N>,
     rho_new: Vec<f64>,
 }
 
@@ -67,6 +69,17 @@ impl<K: Kernel, R: Rheology> Pdri<K, R> {
     /// particles.
     pub fn new(kernel: K, model: R, p: Params, plates: &[Wall]) -> Self {
         let walls = ghost_walls(kernel, WallModel::Ren, &p, plates);
+        Self::with_walls(kernel, model, p, walls)
+    }
+}
+
+impl<K: Kernel<N>, R: Rheology, const N: usize> Pdri<K, R, N>
+where
+    Const<N>: Dim + WcSpace<N> + Mls<N>,
+{
+    /// The scheme with the wall models `walls`, one per wall of the state, in its order (any
+    /// dimension: the caller chooses the models).
+    pub fn with_walls(kernel: K, model: R, p: Params<N>, walls: Vec<Box<dyn Boundary<N>>>) -> Self {
         Self {
             core: WcCore::new(kernel, model, p, walls),
             first: Fluid::default(),
@@ -78,7 +91,7 @@ impl<K: Kernel, R: Rheology> Pdri<K, R> {
 
     /// Reinitialise every fluid density by eq. (18a) from the current positions and densities.
     /// Neighbour lists must be up to date for `fl.x`.
-    fn reinitialise_density(&mut self, fl: &mut Fluid) {
+    fn reinitialise_density(&mut self, fl: &mut Fluid<N>) {
         let nf = fl.len();
         let c = &self.core;
         let fluid = &*fl;
@@ -102,11 +115,19 @@ impl<K: Kernel, R: Rheology> Pdri<K, R> {
 /// beyond the support add nothing. When M is singular (determinant below [`MLS_SINGULAR_DET`]),
 /// or the corrected value is not a positive number, the Shepard sum
 /// sum_j m_j W_ij / sum_j V_j W_ij is used instead, as Ren's section 3.2 prescribes.
-pub fn mls_density<K: Kernel>(kernel: &K, dom: &Domain, fl: &Fluid, list: &[u32], i: usize) -> f64 {
+pub fn mls_density<const N: usize, K: Kernel<N>>(
+    kernel: &K,
+    dom: &Domain,
+    fl: &Fluid<N>,
+    list: &[u32],
+    i: usize,
+) -> f64
+where
+    Const<N>: Mls<N>,
+{
     let r2max = kernel.radius().powi(2);
     let xi = fl.x[i];
-    let mut m = Matrix3::<f64>::zeros();
-    let mut s = Vector3::<f64>::zeros();
+    let mut sums = <Const<N> as Mls<N>>::Moments::default();
     let mut vw = 0.0;
     for &j in list {
         let j = j as usize;
@@ -118,19 +139,15 @@ pub fn mls_density<K: Kernel>(kernel: &K, dom: &Domain, fl: &Fluid, list: &[u32]
         let r = r2.sqrt();
         let (w, dw_r) = kernel.w_and_dw_over_r(r);
         // grad_i W_ij = (x_i - x_j) W'/r = -x_ji W'/r.
-        let g = Vector3::new(w, -xji.x * dw_r, -xji.y * dw_r);
+        let grad = -xji * dw_r;
         let vol = fl.mass / fl.rho[j];
-        m += g * (Vector3::new(1.0, xji.x, xji.y).transpose() * vol);
-        s += g;
+        Const::<N>::add_pair(&mut sums, w, &grad, &xji, vol);
         vw += vol * w;
     }
-    let shepard = fl.mass * s[0] / vw;
-    if m.determinant().abs() < MLS_SINGULAR_DET {
-        return shepard;
-    }
-    match m.transpose().lu().solve(&Vector3::new(1.0, 0.0, 0.0)) {
-        Some(beta) => {
-            let rho = fl.mass * beta.dot(&s);
+    let shepard = fl.mass * Const::<N>::kernel_sum(&sums) / vw;
+    match Const::<N>::corrected(&sums, MLS_SINGULAR_DET) {
+        Some(corrected) => {
+            let rho = fl.mass * corrected;
             if rho.is_finite() && rho > 0.0 {
                 rho
             } else {
@@ -141,8 +158,11 @@ pub fn mls_density<K: Kernel>(kernel: &K, dom: &Domain, fl: &Fluid, list: &[u32]
     }
 }
 
-impl<K: Kernel, R: Rheology> Scheme for Pdri<K, R> {
-    fn step(&mut self, st: &mut State, max_dt: f64) -> Result<f64, String> {
+impl<K: Kernel<N>, R: Rheology, const N: usize> Scheme<N> for Pdri<K, R, N>
+where
+    Const<N>: Dim + WcSpace<N> + Mls<N>,
+{
+    fn step(&mut self, st: &mut State<N>, max_dt: f64) -> Result<f64, String> {
         let c = &mut self.core;
         c.refresh_neighbors(&st.fluid.x, &mut st.walls);
         let r0 = c.rates(&st.fluid, &st.walls);
@@ -198,11 +218,11 @@ impl<K: Kernel, R: Rheology> Scheme for Pdri<K, R> {
             self.core.refresh_neighbors(&st.fluid.x, &mut st.walls);
             self.reinitialise_density(&mut st.fluid);
         }
-        st.void_fraction = check_health::<R>(&self.core.p, st)?;
+        st.void_fraction = check_health::<R, _>(&self.core.p, st)?;
         Ok(dt)
     }
 
-    fn wall_positions(&self, st: &State) -> Vec<Vec2> {
+    fn wall_positions(&self, st: &State<N>) -> Vec<Vector<N>> {
         self.core.wall_positions(&st.walls)
     }
 }
@@ -212,6 +232,8 @@ mod tests {
     use super::*;
     use crate::kernel::CubicSpline;
     use crate::scheme::wc::lattice_block;
+    use crate::Vec2;
+    use nalgebra::{Matrix3, Vector3};
 
     /// A square lattice block of side n dx, densities rho(x) = rho0 (1 + g . x).
     fn block(n: i64, dx: f64, g: Vec2) -> Fluid {

@@ -31,21 +31,22 @@
 
 use super::health::check_health;
 use super::params::Params;
-use super::wc::{ghost_walls, WcCore};
+use super::wc::{ghost_walls, WcCore, WcSpace};
 use super::Scheme;
 use crate::boundary::ghost::{keep_out_of_wall, WallModel};
 use crate::boundary::wall::Wall;
+use crate::boundary::Boundary;
+use crate::dim::{Const, Dim, Vector};
 use crate::kernel::Kernel;
 use crate::particles::Fluid;
 use crate::rheology::Rheology;
 use crate::state::State;
-use crate::Vec2;
 
-/// The WCSPH scheme for kernel `K` and rheology `R`.
-pub struct Wcsph<K: Kernel, R: Rheology> {
-    core: WcCore<K, R>,
-    half: Fluid,
-    next: Fluid,
+/// The WCSPH scheme for kernel `K` and rheology `R` in N space dimensions (`Wcsph<K, R>`: two).
+pub struct Wcsph<K: Kernel<N>, R: Rheology, const N: usize = 2> {
+    core: WcCore<K, R, N>,
+    half: Fluid<N>,
+    next: Fluid<N>,
 }
 
 impl<K: Kernel, R: Rheology> Wcsph<K, R> {
@@ -53,6 +54,22 @@ impl<K: Kernel, R: Rheology> Wcsph<K, R> {
     /// image particles.
     pub fn new(kernel: K, model: R, p: Params, plates: &[Wall]) -> Self {
         let walls = ghost_walls(kernel, WallModel::Fang, &p, plates);
+        Self::with_walls(kernel, model, p, walls)
+    }
+}
+
+impl<K: Kernel<N>, R: Rheology, const N: usize> Wcsph<K, R, N>
+where
+    Const<N>: Dim + WcSpace<N>,
+{
+    /// The scheme with the wall models `walls`, one per wall of the state, in its order (any
+    /// dimension: the caller chooses the models).
+    pub fn with_walls(
+        kernel: K,
+        model: R,
+        p: crate::scheme::params::Params<N>,
+        walls: Vec<Box<dyn Boundary<N>>>,
+    ) -> Self {
         Self {
             core: WcCore::new(kernel, model, p, walls),
             half: Fluid::default(),
@@ -61,8 +78,11 @@ impl<K: Kernel, R: Rheology> Wcsph<K, R> {
     }
 }
 
-impl<K: Kernel, R: Rheology> Scheme for Wcsph<K, R> {
-    fn step(&mut self, st: &mut State, max_dt: f64) -> Result<f64, String> {
+impl<K: Kernel<N>, R: Rheology, const N: usize> Scheme<N> for Wcsph<K, R, N>
+where
+    Const<N>: Dim + WcSpace<N>,
+{
+    fn step(&mut self, st: &mut State<N>, max_dt: f64) -> Result<f64, String> {
         let c = &mut self.core;
         c.refresh_neighbors(&st.fluid.x, &mut st.walls);
         let r0 = c.rates(&st.fluid, &st.walls);
@@ -79,12 +99,12 @@ impl<K: Kernel, R: Rheology> Scheme for Wcsph<K, R> {
         // Corrector, eq. (50): X^{n+1} = X^n + F^{n+1/2} dt.
         c.update(&mut self.next, &st.fluid, &self.half.v, &self.half.conf, dt);
         std::mem::swap(&mut st.fluid, &mut self.next);
-        let mut contact = Vec2::zeros();
+        let mut contact = Vector::zeros();
         let mut per_wall = c.wall_on_fluid_per_wall(r1.wall_on_fluid, st.fluid.mass);
         // The plate's load by particle: minus the corrector's force of its virtual particles
         // on each, and the momentum its contact gives a particle over the step.
         let plate = st.plate;
-        let mut load: Vec<Vec2> = plate.map_or_else(Vec::new, |k| {
+        let mut load: Vec<Vector<N>> = plate.map_or_else(Vec::new, |k| {
             c.wall_on_particles(k, st.fluid.mass)
                 .iter()
                 .map(|f| -f)
@@ -110,11 +130,11 @@ impl<K: Kernel, R: Rheology> Scheme for Wcsph<K, R> {
         st.wall_force = -r1.wall_on_fluid - contact / dt;
         st.wall_impulse += -r1.wall_on_fluid * dt - contact;
         st.last_dt = dt_stable;
-        st.void_fraction = check_health::<R>(&c.p, st)?;
+        st.void_fraction = check_health::<R, _>(&c.p, st)?;
         Ok(dt)
     }
 
-    fn wall_positions(&self, st: &State) -> Vec<Vec2> {
+    fn wall_positions(&self, st: &State<N>) -> Vec<Vector<N>> {
         self.core.wall_positions(&st.walls)
     }
 }

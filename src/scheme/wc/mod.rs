@@ -27,14 +27,16 @@ use crate::boundary::dummy::DummyWall;
 use crate::boundary::ghost::{GhostWall, WallModel};
 use crate::boundary::wall::Wall;
 use crate::boundary::{self, Boundary, Model};
+use crate::dim::{Const, Dim, Tensor, Vector};
 use crate::kernel::Kernel;
-use crate::neighbors::{CellGrid, NeighborList};
+use crate::neighbors::{Grid, NeighborList};
 use crate::operators::artificial::{self, ArtificialStress};
 use crate::operators::kinematics::Kinematics;
 use crate::operators::pairs::PairCache;
 use crate::operators::stress::{self, MORRIS_ETA2};
 use crate::particles::Fluid;
 use crate::rheology::{self, Evss, Rheology};
+#[cfg(test)]
 use crate::{Mat2, Vec2};
 use rayon::prelude::*;
 
@@ -78,41 +80,50 @@ pub fn ghost_walls<K: Kernel>(
 }
 
 /// What one rate evaluation reports besides the per-particle rates.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct StageReport {
+#[derive(Debug, Clone, Copy)]
+pub struct StageReport<const N: usize = 2> {
     /// Force of the virtual (wall) particles on the fluid \[N/m\].
-    pub wall_on_fluid: Vec2,
+    pub wall_on_fluid: Vector<N>,
     /// Largest acceleration magnitude.
     pub max_acc: f64,
 }
 
+impl<const N: usize> Default for StageReport<N> {
+    fn default() -> Self {
+        Self {
+            wall_on_fluid: Vector::zeros(),
+            max_acc: 0.0,
+        }
+    }
+}
+
 /// The shared machinery of the weakly compressible schemes for kernel `K` and rheology `R`:
 /// neighbour lists, the walls' virtual particles, work arrays and the rate evaluation.
-pub struct WcCore<K: Kernel, R: Rheology> {
+pub struct WcCore<K: Kernel<N>, R: Rheology, const N: usize = 2> {
     pub kernel: K,
     pub model: R,
-    pub p: Params,
+    pub p: Params<N>,
     art: ArtificialStress,
     evss: Evss,
     /// One wall model per plate of the state, in the same order.
-    walls: Vec<Box<dyn Boundary>>,
+    walls: Vec<Box<dyn Boundary<N>>>,
     /// Virtual particle index range (after the fluid) of each wall.
     wall_ranges: Vec<std::ops::Range<usize>>,
     // Neighbour structures, rebuilt when particles (or walls) have moved more than half the skin.
-    built_x: Vec<Vec2>,
+    built_x: Vec<Vector<N>>,
     built_walls: Vec<f64>,
     /// Neighbours (fluid and virtual) of every fluid particle.
     nlist: NeighborList,
     /// Neighbours of every virtual particle (only for Ren's artificial stress).
     vlist: NeighborList,
     // Work arrays over all particles (fluid first, then virtual).
-    all_x: Vec<Vec2>,
-    all_v: Vec<Vec2>,
+    all_x: Vec<Vector<N>>,
+    all_v: Vec<Vector<N>>,
     all_rho: Vec<f64>,
-    all_sigma: Vec<Mat2>,
-    all_art: Vec<Mat2>,
+    all_sigma: Vec<Tensor<N>>,
+    all_art: Vec<Tensor<N>>,
     /// Sum over neighbours of the kernel Hessian (Ren eq. 20b), when needed.
-    all_hess: Vec<Mat2>,
+    all_hess: Vec<Tensor<N>>,
     /// Viscosity of the Laplacian viscous term (read with EVSS only).
     all_mu: Vec<f64>,
     /// m / rho of every particle.
@@ -122,25 +133,28 @@ pub struct WcCore<K: Kernel, R: Rheology> {
     /// ([`passes::Rec2`]).
     rec: Vec<passes::Rec>,
     rec2: Vec<passes::Rec2>,
-    pairs: PairCache,
+    pairs: PairCache<N>,
     /// Polymer stress of fluid particles (empty for inelastic models); from pass 1 on, with EVSS,
     /// the elastic stress as it enters sigma (Phi and its trace term), which is what the wall's
     /// zero-normal-elastic-stress condition removes.
-    tau_p: Vec<Mat2>,
+    tau_p: Vec<Tensor<N>>,
     // Fluid rates of the last evaluation.
-    pub kappa: Vec<Mat2>,
+    pub kappa: Vec<Tensor<N>>,
     pub drho: Vec<f64>,
-    pub acc: Vec<Vec2>,
-    wall_acc: Vec<Vec2>,
+    pub acc: Vec<Vector<N>>,
+    wall_acc: Vec<Vector<N>>,
     /// With more than one wall: per fluid particle, the share of `wall_acc` (the acceleration
     /// the virtual particles give it) of each wall, wall by wall, so each wall's force is
     /// measured alone.
-    wall_split: Vec<Vec2>,
+    wall_split: Vec<Vector<N>>,
 }
 
-impl<K: Kernel, R: Rheology> WcCore<K, R> {
+impl<K: Kernel<N>, R: Rheology, const N: usize> WcCore<K, R, N>
+where
+    Const<N>: Dim + WcSpace<N>,
+{
     /// `walls` holds one wall model per plate of the state, in the state's order.
-    pub fn new(kernel: K, model: R, p: Params, walls: Vec<Box<dyn Boundary>>) -> Self {
+    pub fn new(kernel: K, model: R, p: Params<N>, walls: Vec<Box<dyn Boundary<N>>>) -> Self {
         let art = ArtificialStress::new(&kernel, p.art_kind, p.art_coef, p.dx);
         let evss = Evss::new(&model, p.evss_alpha);
         Self {
@@ -179,12 +193,12 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
     /// total (all walls) was `total` [N/m]. With one wall it is the total itself; with more, each
     /// wall's share summed over the particles in index order (the shares add up to the total to
     /// round-off: the total sums every particle's virtual neighbours in one run).
-    pub fn wall_on_fluid_per_wall(&self, total: Vec2, mass: f64) -> Vec<Vec2> {
+    pub fn wall_on_fluid_per_wall(&self, total: Vector<N>, mass: f64) -> Vec<Vector<N>> {
         let nw = self.walls.len();
         if nw <= 1 {
             return vec![total; nw];
         }
-        let mut out = vec![Vec2::zeros(); nw];
+        let mut out = vec![Vector::zeros(); nw];
         for chunk in self.wall_split.chunks(nw) {
             for (o, a) in out.iter_mut().zip(chunk) {
                 *o += a * mass;
@@ -196,7 +210,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
     /// Force of wall `wall`'s virtual particles on each fluid particle at the last rate
     /// evaluation [N/m]: the terms whose sum over the particles is that wall's share of
     /// [`StageReport::wall_on_fluid`] (see [`WcCore::wall_on_fluid_per_wall`]).
-    pub fn wall_on_particles(&self, wall: usize, mass: f64) -> Vec<Vec2> {
+    pub fn wall_on_particles(&self, wall: usize, mass: f64) -> Vec<Vector<N>> {
         let nw = self.walls.len();
         if nw <= 1 {
             return self.wall_acc.iter().map(|a| a * mass).collect();
@@ -218,7 +232,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
 
     /// Rebuild the neighbour lists (and grow the walls) if any particle or wall moved more than
     /// half the skin since the last build.
-    pub fn refresh_neighbors(&mut self, x: &[Vec2], plates: &mut [Wall]) {
+    pub fn refresh_neighbors(&mut self, x: &[Vector<N>], plates: &mut [Wall<N>]) {
         let half_skin = 0.5 * SKIN * self.kernel.h();
         let half_skin2 = half_skin * half_skin;
         let dom = self.p.domain;
@@ -242,14 +256,14 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
         self.wall_ranges.clear();
         if !self.walls.is_empty() {
             // Walls interpolate from fluid only.
-            let fluid_grid = CellGrid::build(x, radius, &dom);
+            let fluid_grid = Grid::build(x, radius, &dom);
             for (wall, plate) in self.walls.iter_mut().zip(plates.iter_mut()) {
                 let start = self.all_x.len();
                 wall.place(plate, x, &fluid_grid, radius, &mut self.all_x);
                 self.wall_ranges.push(start..self.all_x.len());
             }
         }
-        let grid = CellGrid::build(&self.all_x, radius, &dom);
+        let grid = Grid::build(&self.all_x, radius, &dom);
         self.nlist = NeighborList::build(&grid, &self.all_x, x, radius, &dom);
         self.vlist = if self.art.needs_hessian() {
             NeighborList::build(&grid, &self.all_x, &self.all_x[nf..], radius, &dom)
@@ -260,19 +274,19 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
         self.built_walls = plates.iter().map(|p| p.displacement()).collect();
         let n = self.all_x.len();
         let rho0 = self.p.eos.rho0;
-        self.all_v.resize(n, Vec2::zeros());
+        self.all_v.resize(n, Vector::zeros());
         self.all_rho.resize(n, rho0);
         self.all_rho[nf..].fill(rho0);
         self.all_vol.clear();
-        self.all_sigma.resize(n, Mat2::zeros());
-        self.all_art.resize(n, Mat2::zeros());
-        self.all_hess.resize(n, Mat2::zeros());
+        self.all_sigma.resize(n, Tensor::zeros());
+        self.all_art.resize(n, Tensor::zeros());
+        self.all_hess.resize(n, Tensor::zeros());
         // Virtual particles carry the viscosity of a fluid at rest (read by the Laplacian only,
         // that is with EVSS, which acts only on elastic models, whose solvent viscosity does not
         // depend on the shear rate).
         let mu = self
             .evss
-            .viscous_viscosity(self.model.solvent_viscosity(&Mat2::zeros()));
+            .viscous_viscosity(self.model.solvent_viscosity(&Tensor::<N>::zeros()));
         self.all_mu.resize(n, mu);
         self.all_mu[nf..].fill(mu);
     }
@@ -297,7 +311,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
             .enumerate()
             .for_each(|(k, h)| {
                 let xi = ax[nf + k];
-                let mut sum = Mat2::zeros();
+                let mut sum = Tensor::zeros();
                 for &j in vlist.of(k) {
                     let ju = j as usize;
                     if ju == nf + k {
@@ -315,7 +329,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
 
     /// One rate evaluation at fluid state `fl` with the walls `plates`: fills kappa, drho, acc
     /// (and the wall part).
-    pub fn rates(&mut self, fl: &Fluid, plates: &[Wall]) -> StageReport {
+    pub fn rates(&mut self, fl: &Fluid<N>, plates: &[Wall<N>]) -> StageReport<N> {
         let nf = fl.len();
         self.all_x[..nf].copy_from_slice(&fl.x);
         for (((wall, plate), range), built) in self
@@ -343,18 +357,17 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
         for ((wall, plate), range) in self.walls.iter().zip(plates).zip(&self.wall_ranges) {
             wall.fill_velocities(plate, fl, &mut self.all_v[range.clone()]);
         }
-        self.pack_kinematics();
         self.virtual_hessians(nf);
         if R::ELASTIC {
             let model = &self.model;
-            self.tau_p.resize(nf, Mat2::zeros());
+            self.tau_p.resize(nf, Tensor::zeros());
             self.tau_p
                 .par_iter_mut()
                 .zip(fl.conf.par_iter())
                 .with_min_len(MIN_TASK_LIGHT)
                 .for_each(|(t, a)| *t = model.polymer_stress(a));
         }
-        self.pass1(fl);
+        Const::<N>::pass1(self, fl);
         if R::ELASTIC && self.evss.is_on() {
             let evss = self.evss;
             self.tau_p
@@ -379,8 +392,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
                 .enumerate()
                 .for_each(|(k, a)| *a = art.of_particle(&vsig[k], rho0, &vhess[k]));
         }
-        self.pack_stresses();
-        self.pass2(fl)
+        Const::<N>::pass2(self, fl)
     }
 
     /// The time-step limits of Fang 2006 eqs. (51)-(53), each times `factor`: sound (with the
@@ -389,8 +401,8 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
     /// EVSS added viscosity, which the Laplacian carries on top of the physical one.
     pub fn stable_dt(
         &self,
-        fl: &Fluid,
-        report: &StageReport,
+        fl: &Fluid<N>,
+        report: &StageReport<N>,
         factor: f64,
         with_flow_speed: bool,
     ) -> f64 {
@@ -426,10 +438,17 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
     /// Both predictor-correctors are made of such updates: Fang's (eqs. 49-50) is
     /// `X^{n+1/2} = X^n + dt/2 F(X^n)`, `X^{n+1} = X^n + dt F(X^{n+1/2})`; Ren's (eqs. 25a-25b,
     /// see [`super::pdri`]) is `X~ = X^n + dt G(X^n)`, `X^{n+1} = (X^n + dt/2 G(X^n)) + dt/2 G(X~)`.
-    pub fn update(&self, out: &mut Fluid, base: &Fluid, vel: &[Vec2], conf_eval: &[Mat2], dt: f64) {
+    pub fn update(
+        &self,
+        out: &mut Fluid<N>,
+        base: &Fluid<N>,
+        vel: &[Vector<N>],
+        conf_eval: &[Tensor<N>],
+        dt: f64,
+    ) {
         out.mass = base.mass;
         add_scaled(&mut out.x, &base.x, vel, dt);
-        if self.p.domain.period_x.is_some() {
+        if self.p.domain.is_periodic() {
             let dom = self.p.domain;
             out.x
                 .par_iter_mut()
@@ -451,14 +470,53 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
         }
     }
 
+    /// The report of a rate evaluation whose pass 2 has filled the accelerations, particles of
+    /// mass `mass`: sequential, fixed-order reductions (the largest squared acceleration, then
+    /// one square root: bitwise the largest norm, sqrt being correctly rounded and monotone).
+    fn stage_report(&self, mass: f64) -> StageReport<N> {
+        let mut report = StageReport::default();
+        for (a, aw) in self.acc.iter().zip(&self.wall_acc) {
+            report.max_acc = report.max_acc.max(a.norm_squared());
+            report.wall_on_fluid += aw * mass;
+        }
+        report.max_acc = report.max_acc.sqrt();
+        report
+    }
+
     /// Positions of the virtual particles of the walls `plates`.
-    pub fn wall_positions(&self, plates: &[Wall]) -> Vec<Vec2> {
+    pub fn wall_positions(&self, plates: &[Wall<N>]) -> Vec<Vector<N>> {
         self.walls
             .iter()
             .zip(plates)
             .flat_map(|(w, p)| w.positions(p))
             .collect()
     }
+}
+
+/// What pass 1 derives for a particle of density `rho` from its velocity gradient `kappa`, its
+/// polymer stress `tau` (elastic models) and its kernel Hessian sum `hess`: the viscosity of
+/// Morris' Laplacian, the total stress (Fang 2006 eq. 8 with the pressure of the equation of
+/// state) and the artificial stress. Every dimension's pass 1 ends with it.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn particle_stress<R: Rheology, const N: usize>(
+    model: &R,
+    p: &Params<N>,
+    art: &ArtificialStress,
+    evss: &Evss,
+    laplacian: bool,
+    kappa: &Tensor<N>,
+    tau: Option<&Tensor<N>>,
+    rho: f64,
+    hess: &Tensor<N>,
+) -> (f64, Tensor<N>, Tensor<N>)
+where
+    Const<N>: Dim,
+{
+    let eta = model.solvent_viscosity(kappa);
+    let sigma = stress::assemble(p.eos.pressure(rho), eta, kappa, tau, evss, laplacian);
+    let art = art.of_particle(&sigma, rho, hess);
+    (evss.viscous_viscosity(eta), sigma, art)
 }
 
 /// `out = base + rate * dt`, element by element, in parallel.
@@ -501,6 +559,10 @@ pub(crate) fn lattice_block(
 }
 
 mod passes;
+mod plain;
+mod space;
+
+pub use space::WcSpace;
 
 #[cfg(test)]
 mod tests;

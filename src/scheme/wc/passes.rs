@@ -16,6 +16,7 @@
 //! results are bitwise those of the code before this layout.
 
 use super::*;
+use crate::{Mat2, Vec2};
 
 /// What pass 1 reads of a neighbour: position, velocity, density and volume m/rho, 48 bytes.
 /// Kept apart from what pass 2 reads ([`Rec2`]): a particle's neighbours are mostly runs of
@@ -210,7 +211,8 @@ fn has_avx2() -> bool {
     }
 }
 
-impl<K: Kernel, R: Rheology> WcCore<K, R> {
+/// The two-dimensional passes: packed records and the AVX2 build of the pair loops.
+impl<K: Kernel, R: Rheology> WcCore<K, R, 2> {
     /// Records of every particle (fluid and virtual): positions, velocities, densities and
     /// volumes, for pass 1. The walls' velocities must be in `all_v`.
     pub(super) fn pack_kinematics(&mut self) {
@@ -250,7 +252,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
 
     /// Pass 1 (a gather): velocity gradient (Fang eq. 23), continuity (eq. 26), stresses, and
     /// the kernel values of every pair inside the support, cached for pass 2.
-    pub(super) fn pass1(&mut self, fl: &Fluid) {
+    pub(super) fn pass1_packed(&mut self, fl: &Fluid) {
         // The records' pair vectors (`delta`) wrap along x only.
         assert!(
             self.p.domain.period_y.is_none() && self.p.domain.period_z.is_none(),
@@ -363,19 +365,10 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
                     *kappa_i = kin.kappa;
                     *drho_i = kin.continuity * mass;
                     *hess_i = hess;
-                    let eta = model.solvent_viscosity(&kin.kappa);
-                    *mu_i = evss.viscous_viscosity(eta);
                     let tau = R::ELASTIC.then(|| &tau_p[i]);
-                    let sigma = stress::assemble(
-                        p.eos.pressure(fl.rho[i]),
-                        eta,
-                        &kin.kappa,
-                        tau,
-                        &evss,
-                        laplacian,
+                    (*mu_i, *sigma_i, *art_i) = particle_stress(
+                        model, p, art, &evss, laplacian, &kin.kappa, tau, fl.rho[i], &hess,
                     );
-                    *sigma_i = sigma;
-                    *art_i = art.of_particle(&sigma, fl.rho[i], &hess);
                 },
             );
     }
@@ -383,7 +376,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
     /// Pass 2 (a gather over the cached pairs): momentum (Fang eq. 27, Ren eq. 21) with
     /// artificial viscosity (Fang eqs. 30-37, Ren eq. 19) and artificial stress (Fang eq. 38,
     /// Ren eq. 20a); with EVSS, Morris' viscous Laplacian.
-    pub(super) fn pass2(&mut self, fl: &Fluid) -> StageReport {
+    pub(super) fn pass2_packed(&mut self, fl: &Fluid) -> StageReport {
         let periodic = self.p.domain.period_x.is_some();
         match (periodic, self.laplacian(), self.art.is_on()) {
             (false, false, false) => self.pass2_impl::<false, false, false>(fl),
@@ -505,16 +498,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R> {
                     *acc_i = (a + aw) * mass + p.gravity;
                 });
         }
-        // Sequential, fixed-order reductions.
-        // (The largest squared acceleration, then one square root: bitwise the largest norm,
-        // sqrt being correctly rounded and monotone.)
-        let mut report = StageReport::default();
-        for (a, aw) in self.acc.iter().zip(&self.wall_acc) {
-            report.max_acc = report.max_acc.max(a.norm_squared());
-            report.wall_on_fluid += aw * mass;
-        }
-        report.max_acc = report.max_acc.sqrt();
-        report
+        self.stage_report(mass)
     }
 }
 
