@@ -47,9 +47,9 @@ crate::params! {
             "Cylinder array scene: radius R of the cylinder; the periodic cell is 6 R long and 4 R high unless cylinder_cell_length and cylinder_cell_height say otherwise, particles_per_diameter counts particles across 2 R",
         cylinder_body_force: f64 = real_pos(300.0, 1.0e6), vr 63, unit "m/s2";
             "Cylinder array scene: body force per unit mass along the cell, switched on at t = 0 (gravity is off)",
-        cylinder_cell_length: f64 = real(0.0, 0.0, 1.0e4), vr 64, unit "m";
+        cylinder_cell_length: f64 = real(0.0, 0.0, 1.0e4), vr 68, unit "m";
             "Cylinder array scene: length L of the periodic cell, the distance between neighbouring cylinders (rounded to whole particle spacings); 0 = 6 R",
-        cylinder_cell_height: f64 = real(0.0, 0.0, 1.0e4), vr 65, unit "m";
+        cylinder_cell_height: f64 = real(0.0, 0.0, 1.0e4), vr 69, unit "m";
             "Cylinder array scene: height H of the cell, the distance between its two walls; 0 = 4 R",
     }
 }
@@ -59,8 +59,8 @@ crate::outputs! {
     pub struct CylinderArrayOutputs {
         cylinder_drag: vr 120, unit "N/m"; "Cylinder array: force of the fluid on the cylinder along the flow, per unit depth (0 in other scenes)",
         cylinder_lift: vr 121, unit "N/m"; "Cylinder array: force of the fluid on the cylinder across the flow, per unit depth (0 in other scenes)",
-        wall_shear_force: vr 122, unit "N/m"; "Cylinder array: force of the fluid on the two channel walls together along the flow, per unit depth (0 in other scenes)",
-        mean_velocity: vr 123, unit "m/s"; "Cylinder array: mean flow velocity <u> over the fluid, sum V u / sum V (0 in other scenes)",
+        wall_shear_force: vr 172, unit "N/m"; "Cylinder array: force of the fluid on the two channel walls together along the flow, per unit depth (0 in other scenes)",
+        mean_velocity: vr 173, unit "m/s"; "Cylinder array: mean flow velocity <u> over the fluid, sum V u / sum V (0 in other scenes)",
     }
 }
 
