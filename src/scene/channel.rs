@@ -46,7 +46,7 @@ crate::outputs! {
     /// The channel's own outputs (see the module documentation).
     pub struct ChannelOutputs {
         centreline_velocity: vr 114, unit "m/s"; "Channel: flow velocity on the centre line (0 in other scenes)",
-        flow_rate: vr 115, unit "m2/s"; "Channel: volume flow rate per unit depth (0 in other scenes)",
+        flow_rate: vr 115, unit "m2/s"; "Channel and cylinder array: volume flow rate per unit depth through a cross-section (0 in other scenes)",
         wall_shear_stress: vr 116, unit "Pa"; "Channel: shear stress of the fluid on the walls, mean of both, positive along the flow (0 in other scenes)",
     }
 }

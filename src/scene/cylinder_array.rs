@@ -1,5 +1,6 @@
 //! A periodic array of cylinders between two walls (King & Lind 2021 section IV.B): a cell of
-//! length L = 6R and height H = 4R, periodic along x, no-slip walls at y = 0 and y = H, a
+//! length L = 6R and height H = 4R (`cylinder_cell_length`, `cylinder_cell_height`; a cylinder
+//! that does not fit the cell is refused), periodic along x, no-slip walls at y = 0 and y = H, a
 //! cylinder of radius R at the centre of the cell, the fluid at rest at t = 0 and driven from
 //! then on by a uniform body force g along x (gravity off). The reference for it is the finite
 //! element solution in `validation/cylinder_array/`.
@@ -16,13 +17,23 @@
 //! same offset.
 //!
 //! Outputs: `cylinder_drag` and `cylinder_lift`, the force of the fluid on the cylinder alone
-//! along and across the flow per unit depth (0 where the scheme does not split the walls'
-//! force; see `State::wall_forces`).
+//! along and across the flow per unit depth, and `wall_shear_force`, the force of the fluid on
+//! the two channel walls along the flow (all three 0 where the scheme does not split the walls'
+//! force: ISPH with an elastic fluid; see `State::wall_forces`); `mean_velocity` <u> = sum V u_x
+//! / sum V over the fluid (the velocity of King & Lind's Wi = <u> lambda / R and
+//! Re = rho <u> R / eta0, which the CLI's summary prints), and the channel's `flow_rate`,
+//! sum V u_x / L, the flux through a cross-section.
+//!
+//! **Momentum balance.** The walls' forces are booked as the momentum each wall gives the fluid
+//! in a step, so `sum m u` changes by exactly the body force on the fluid `N m g` less the
+//! walls' impulses (ISPH also books the ALE remapping, `State::remap_impulse`): at steady
+//! state the body force equals drag plus wall shear (the continuum's `rho g A_fluid = F_cyl +
+//! F_walls`; test `the_momentum_balance_closes_at_steady_state`).
 
-use super::{Outputs, Scene, SceneConfig, SceneType};
+use super::{Outputs, Predictions, Scene, SceneConfig, SceneType};
 use crate::boundary::plate::Plate;
 use crate::boundary::wall::Wall;
-use crate::config::{real_pos, ConfigError};
+use crate::config::{real, real_pos, ConfigError};
 use crate::geometry::{Ball, Shape};
 use crate::neighbors::Domain;
 use crate::particles::Fluid;
@@ -33,9 +44,13 @@ crate::params! {
     /// The cell: the cylinder's radius (the cell is 6R by 4R) and the force that drives it.
     pub struct CylinderArrayParams {
         cylinder_radius: f64 = real_pos(1.0, 1000.0), vr 62, unit "m";
-            "Cylinder array scene: radius R of the cylinder; the periodic cell is 6 R long and 4 R high, particles_per_diameter counts particles across 2 R",
+            "Cylinder array scene: radius R of the cylinder; the periodic cell is 6 R long and 4 R high unless cylinder_cell_length and cylinder_cell_height say otherwise, particles_per_diameter counts particles across 2 R",
         cylinder_body_force: f64 = real_pos(300.0, 1.0e6), vr 63, unit "m/s2";
             "Cylinder array scene: body force per unit mass along the cell, switched on at t = 0 (gravity is off)",
+        cylinder_cell_length: f64 = real(0.0, 0.0, 1.0e4), vr 68, unit "m";
+            "Cylinder array scene: length L of the periodic cell, the distance between neighbouring cylinders (rounded to whole particle spacings); 0 = 6 R",
+        cylinder_cell_height: f64 = real(0.0, 0.0, 1.0e4), vr 69, unit "m";
+            "Cylinder array scene: height H of the cell, the distance between its two walls; 0 = 4 R",
     }
 }
 
@@ -44,21 +59,33 @@ crate::outputs! {
     pub struct CylinderArrayOutputs {
         cylinder_drag: vr 120, unit "N/m"; "Cylinder array: force of the fluid on the cylinder along the flow, per unit depth (0 in other scenes)",
         cylinder_lift: vr 121, unit "N/m"; "Cylinder array: force of the fluid on the cylinder across the flow, per unit depth (0 in other scenes)",
+        wall_shear_force: vr 172, unit "N/m"; "Cylinder array: force of the fluid on the two channel walls together along the flow, per unit depth (0 in other scenes)",
+        mean_velocity: vr 173, unit "m/s"; "Cylinder array: mean flow velocity <u> over the fluid, sum V u / sum V (0 in other scenes)",
     }
 }
 
-/// Cell length and height over R.
+/// King & Lind's cell length and height over R (the defaults).
 const LENGTH: f64 = 6.0;
 const HEIGHT: f64 = 4.0;
-/// The cylinder's place among the walls.
+/// The cylinder's place among the walls (the channel walls are 0 and 1).
 const CYLINDER: usize = 2;
 
 /// The scene.
 pub struct CylinderArray;
 
+/// The cell's length as configured (before rounding to whole spacings) [m].
+fn length(cfg: &SceneConfig) -> f64 {
+    let c = &cfg.cylinder_array;
+    if c.cylinder_cell_length > 0.0 {
+        c.cylinder_cell_length
+    } else {
+        LENGTH * c.cylinder_radius
+    }
+}
+
 /// Particle spacings along the period.
 fn columns(cfg: &SceneConfig) -> i64 {
-    (LENGTH * cfg.cylinder_array.cylinder_radius / cfg.dx()).round() as i64
+    (length(cfg) / cfg.dx()).round() as i64
 }
 
 /// The period (whole particle spacings) [m].
@@ -66,10 +93,107 @@ fn period(cfg: &SceneConfig) -> f64 {
     columns(cfg) as f64 * cfg.dx()
 }
 
-/// The cell's height H = 4R [m].
+/// The cell's height H (4R by default) [m].
 fn height(cfg: &SceneConfig) -> f64 {
-    HEIGHT * cfg.cylinder_array.cylinder_radius
+    let c = &cfg.cylinder_array;
+    if c.cylinder_cell_height > 0.0 {
+        c.cylinder_cell_height
+    } else {
+        HEIGHT * c.cylinder_radius
+    }
 }
+
+/// The mean velocity over the fluid, sum V u_x / sum V (the reference's `u_mean_fluid`), and
+/// the flow rate sum V u_x / L [m2/s]: the flux through a cross-section, equal for every
+/// section of a divergence-free periodic flow.
+fn mean_velocity_and_flow_rate(fl: &Fluid, period: f64) -> (f64, f64) {
+    let (mut vol, mut flux) = (0.0, 0.0);
+    for (v, r) in fl.v.iter().zip(&fl.rho) {
+        let vi = fl.mass / r;
+        vol += vi;
+        flux += vi * v.x;
+    }
+    let mean = if vol > 0.0 { flux / vol } else { 0.0 };
+    (mean, flux / period)
+}
+
+/// King & Lind's steady state in a record of outputs (section IV.B): the first recorded time
+/// `time` at which the flow rate differs by less than 2 % from its value one time unit
+/// `unit` = R / <u> earlier (linear between records), and the means of the cylinder's outputs
+/// and the flow rate over the next three time units (trapezoidal rule over the records), if
+/// the record reaches that far.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SteadyState {
+    pub time: f64,
+    pub unit: f64,
+    /// Means of drag, lift, wall shear force, mean velocity and flow rate over
+    /// `[time, time + 3 unit]`.
+    pub means: Option<[f64; 5]>,
+}
+
+/// The flow rate of a record at time `t` (linear between rows; `series` sorted by time).
+fn flow_rate_at(series: &[(f64, Outputs)], t: f64) -> f64 {
+    let k = series.partition_point(|(s, _)| *s < t).clamp(1, series.len() - 1);
+    let ((t0, a), (t1, b)) = (&series[k - 1], &series[k]);
+    let w = if t1 > t0 { (t - t0) / (t1 - t0) } else { 1.0 };
+    a.channel.flow_rate + w * (b.channel.flow_rate - a.channel.flow_rate)
+}
+
+/// The cylinder's averaged quantities of one output row.
+fn averaged(o: &Outputs) -> [f64; 5] {
+    let c = &o.cylinder_array;
+    [
+        c.cylinder_drag,
+        c.cylinder_lift,
+        c.wall_shear_force,
+        c.mean_velocity,
+        o.channel.flow_rate,
+    ]
+}
+
+/// King & Lind's steady state of a record (see [`SteadyState`]) for a cylinder of radius
+/// `radius`; None if the flow rate never settled to 2 % over a time unit.
+pub fn steady_state(series: &[(f64, Outputs)], radius: f64) -> Option<SteadyState> {
+    if series.len() < 2 {
+        return None;
+    }
+    let t_first = series[0].0;
+    let (time, unit) = series.iter().find_map(|(t, o)| {
+        let u = o.cylinder_array.mean_velocity;
+        if u <= 0.0 {
+            return None;
+        }
+        let unit = radius / u;
+        let q = o.channel.flow_rate;
+        let earlier = t - unit;
+        (earlier >= t_first && (q - flow_rate_at(series, earlier)).abs() < 0.02 * q.abs())
+            .then_some((*t, unit))
+    })?;
+    let end = time + 3.0 * unit;
+    let last = series.last().map_or(time, |(t, _)| *t);
+    let means = (last >= end).then(|| {
+        let mut sum = [0.0; 5];
+        let rows: Vec<_> = series
+            .iter()
+            .filter(|(t, _)| *t >= time && *t <= end)
+            .collect();
+        for w in rows.windows(2) {
+            let (a, b) = (averaged(&w[0].1), averaged(&w[1].1));
+            let dt = w[1].0 - w[0].0;
+            for (s, (x, y)) in sum.iter_mut().zip(a.iter().zip(&b)) {
+                *s += 0.5 * (x + y) * dt;
+            }
+        }
+        let span = rows.last().map_or(0.0, |r| r.0) - time;
+        sum.map(|s| if span > 0.0 { s / span } else { 0.0 })
+    });
+    Some(SteadyState { time, unit, means })
+}
+
+/// The drag coefficient K = F / (eta0 <u>) of King & Lind's cell for a Newtonian fluid, from
+/// the finite-element solution in `validation/cylinder_array/` (Taylor-Hood, extrapolated,
+/// uncertainty 2.4e-6).
+pub const REFERENCE_DRAG_COEFFICIENT: f64 = 92.82999;
 
 /// The channel's Newtonian centre-line speed rho g H^2 / (8 eta0) without the cylinder, an upper
 /// bound of the flow's speed [m/s].
@@ -91,8 +215,19 @@ impl Scene for CylinderArray {
         2.0 * cfg.cylinder_array.cylinder_radius
     }
 
+    /// The larger of the flow's speed bound and the speed whose dynamic pressure is the
+    /// pressure difference across the cylinder, sqrt(g L H / (2R)): the automatic sound speed
+    /// (ten times this) then keeps the density within about 1 % of rho. In creeping flow the
+    /// pressure scales with the viscous stresses, not with rho U^2: the body force on the cell,
+    /// rho g L H, is carried mostly by the pressure on the cylinder's diameter 2R (at King &
+    /// Lind's Re = 0.024, 3600 Pa against rho U^2 = 1 Pa). Measured at 8 across with
+    /// `sound_speed = 20` (rho c^2 = 400 Pa): WCSPH broke up behind the cylinder at t = 0.03 s.
     fn max_expected_speed(&self, cfg: &SceneConfig) -> f64 {
-        speed_bound(cfg).max(1e-3)
+        let c = &cfg.cylinder_array;
+        let pressure = (c.cylinder_body_force * period(cfg) * height(cfg)
+            / (2.0 * c.cylinder_radius))
+            .sqrt();
+        speed_bound(cfg).max(pressure).max(1e-3)
     }
 
     fn velocity_scale(&self, cfg: &SceneConfig) -> f64 {
@@ -106,12 +241,25 @@ impl Scene for CylinderArray {
 
     /// The fluid (the cell less the cylinder) and the wall particles.
     fn estimated_particles(&self, cfg: &SceneConfig) -> f64 {
-        let n = cfg.numerics.particles_per_diameter as f64;
-        let cells = 0.25 * (LENGTH * HEIGHT - std::f64::consts::PI) * n * n;
-        cells + 10.0 * n * LENGTH
+        let (r, dx) = (cfg.cylinder_array.cylinder_radius, cfg.dx());
+        let area = length(cfg) * height(cfg) - std::f64::consts::PI * r * r;
+        area / (dx * dx) + 10.0 * length(cfg) / dx
     }
 
     fn validate(&self, cfg: &SceneConfig) -> Result<(), ConfigError> {
+        let d = 2.0 * cfg.cylinder_array.cylinder_radius;
+        for (name, size) in [
+            ("cylinder_cell_height", height(cfg)),
+            ("cylinder_cell_length", length(cfg)),
+        ] {
+            if d >= size {
+                return Err(ConfigError::Inconsistent(format!(
+                    "{name} = {size} m: the cylinder (cylinder_radius = {} m) does not fit the \
+                     cell, whose {name} must exceed the diameter {d} m",
+                    cfg.cylinder_array.cylinder_radius
+                )));
+            }
+        }
         let least = super::channel::MIN_COLUMNS;
         if columns(cfg) < least {
             return Err(ConfigError::Inconsistent(format!(
@@ -182,14 +330,97 @@ impl Scene for CylinderArray {
     /// The health figures of the shared outputs and the cylinder's force.
     fn outputs(&self, st: &State, cfg: &SceneConfig) -> Outputs {
         let f = st.wall_forces.get(CYLINDER).copied().unwrap_or_default();
+        let shear = st.wall_forces.iter().take(CYLINDER).map(|f| f.x).sum();
+        let (mean, flow) = mean_velocity_and_flow_rate(&st.fluid, period(cfg));
         Outputs {
             shared: super::channel::health_outputs(st, cfg),
+            channel: super::channel::ChannelOutputs {
+                flow_rate: flow,
+                ..Default::default()
+            },
             cylinder_array: CylinderArrayOutputs {
                 cylinder_drag: f.x,
                 cylinder_lift: f.y,
+                wall_shear_force: shear,
+                mean_velocity: mean,
             },
             ..Default::default()
         }
+    }
+
+    /// The flow at the end: <u>, Q, the drag and its coefficient K = F / (eta0 <u>) (against
+    /// the finite-element value of King & Lind's Newtonian cell), the momentum balance, and
+    /// King & Lind's Wi = <u> lambda / R and Re = rho <u> R / eta0.
+    fn summary(
+        &self,
+        cfg: &SceneConfig,
+        st: &State,
+        series: &[(f64, Outputs)],
+        _predictions: &dyn Predictions,
+    ) -> Vec<String> {
+        let Some((t, o)) = series.last() else {
+            return Vec::new();
+        };
+        let c = &o.cylinder_array;
+        let (r, eta0, rho) = (
+            cfg.cylinder_array.cylinder_radius,
+            cfg.fluid.viscosity,
+            cfg.fluid.density,
+        );
+        let u = c.mean_velocity;
+        let body = st.fluid.len() as f64 * st.fluid.mass * cfg.cylinder_array.cylinder_body_force;
+        let mut lines = vec![format!(
+            "cylinder array at t = {t:.6} s: <u> = {u:.6e} m/s, flow rate {:.6e} m2/s, \
+             Wi = <u> lambda / R = {:.4}, Re = rho <u> R / eta0 = {:.4e}",
+            o.channel.flow_rate,
+            u * cfg.fluid.relaxation_time / r,
+            rho * u * r / eta0
+        )];
+        if st.wall_forces.is_empty() {
+            lines.push(format!(
+                "cylinder array: the scheme does not split the walls' force (all walls: {:.6e} \
+                 N/m along the flow; body force on the fluid {body:.6e} N/m)",
+                st.wall_force.x
+            ));
+        } else {
+            lines.push(format!(
+                "cylinder array: drag {:.6e} N/m, lift {:.3e} N/m, K = F / (eta0 <u>) = {:.5} \
+                 (finite elements, King & Lind's Newtonian cell: {REFERENCE_DRAG_COEFFICIENT}); \
+                 wall shear force {:.6e} N/m; drag + wall shear = {:.5} of the body force on \
+                 the fluid ({body:.6e} N/m)",
+                c.cylinder_drag,
+                c.cylinder_lift,
+                c.cylinder_drag / (eta0 * u),
+                c.wall_shear_force,
+                (c.cylinder_drag + c.wall_shear_force) / body
+            ));
+        }
+        let Some(steady) = steady_state(series, r) else {
+            lines.push(
+                "cylinder array: not steady (King & Lind's criterion: the flow rate changes by \
+                 less than 2 % over one time unit R / <u>)"
+                    .to_string(),
+            );
+            return lines;
+        };
+        lines.push(match steady.means {
+            Some([drag, lift, shear, u, q]) => format!(
+                "cylinder array: steady at t = {:.6} s (time unit R / <u> = {:.4e} s); means \
+                 over the next 3 time units: drag {drag:.6e} N/m, lift {lift:.3e} N/m, wall \
+                 shear force {shear:.6e} N/m, <u> = {u:.6e} m/s, flow rate {q:.6e} m2/s, \
+                 K = {:.5}, drag + wall shear = {:.5} of the body force",
+                steady.time,
+                steady.unit,
+                drag / (eta0 * u),
+                (drag + shear) / body
+            ),
+            None => format!(
+                "cylinder array: steady at t = {:.6} s (time unit R / <u> = {:.4e} s); the run \
+                 ends before 3 more time units, no means",
+                steady.time, steady.unit
+            ),
+        });
+        lines
     }
 
     fn snapshot_title(&self, cfg: &SceneConfig, field: &str) -> String {
@@ -205,46 +436,5 @@ impl Scene for CylinderArray {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::config::Value;
-    use crate::simulation::Simulation;
-
-    /// The cell builds and steps under every scheme: three walls (two straight, one circle),
-    /// no particle inside the cylinder, and the first steps move the fluid along the flow.
-    #[test]
-    fn the_cell_builds_and_steps_under_every_scheme() {
-        for scheme in ["wcsph", "pdri", "isph"] {
-            let mut cfg = SceneConfig::default();
-            for (k, v) in [
-                ("scene", Value::Text("cylinder_array".into())),
-                ("scheme", Value::Text(scheme.into())),
-                ("rheology", Value::Text("newtonian".into())),
-                ("density", Value::Real(1.0)),
-                ("viscosity", Value::Real(41.66)),
-                ("sound_speed", Value::Real(20.0)),
-                ("particles_per_diameter", Value::Integer(8)),
-            ] {
-                cfg.set(k, v).unwrap();
-            }
-            let mut sim = Simulation::new(cfg).unwrap();
-            let st = sim.state();
-            assert_eq!(st.walls.len(), 3);
-            assert!(st.walls[0].is_straight() && st.walls[1].is_straight());
-            assert!(!st.walls[CYLINDER].is_straight());
-            let cyl = &st.walls[CYLINDER];
-            assert!(st.fluid.x.iter().all(|x| cyl.signed_distance(x) > 0.0));
-            for _ in 0..5 {
-                let t = sim.time() + 1e-4;
-                sim.advance_to(t).unwrap_or_else(|e| panic!("{scheme}: {e}"));
-            }
-            let st = sim.state();
-            let momentum: f64 = st.fluid.v.iter().map(|v| v.x).sum();
-            assert!(momentum > 0.0, "{scheme}: the body force drives the flow");
-            if scheme != "isph" {
-                // The cylinder's force alone, along the flow.
-                assert!(sim.outputs().cylinder_array.cylinder_drag > 0.0, "{scheme}");
-            }
-        }
-    }
-}
+#[path = "cylinder_array_tests.rs"]
+mod tests;

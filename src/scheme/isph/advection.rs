@@ -80,7 +80,7 @@ impl<R: Rheology> Isph<R> {
 
     /// Step 7, eq. (27): the new positions (Lagrangian frame), velocities `u_new` and
     /// conformations `conf`, the inlet's momentum `held_momentum`, then the plate contact.
-    /// Returns the momentum the plates gave the fluid by the contact.
+    /// Returns the momentum each wall gave the fluid by the contact (in the walls' order).
     pub(super) fn advect(
         &self,
         st: &mut State,
@@ -89,7 +89,7 @@ impl<R: Rheology> Isph<R> {
         u_new: Vec<Vec2>,
         conf: Vec<Mat2>,
         held_momentum: Vec2,
-    ) -> Vec2 {
+    ) -> Vec<Vec2> {
         let (dom, dt) = (self.p.domain, ctx.dt);
         let fl = &mut st.fluid;
         if ctx.lagrangian {
@@ -104,13 +104,13 @@ impl<R: Rheology> Isph<R> {
         if R::ELASTIC {
             fl.conf = conf;
         }
-        let mut contact = Vec2::zeros();
+        let mut contacts = Vec::with_capacity(st.walls.len());
         for wall in &st.walls {
             let (m, reflections) = keep_out_of_wall(&mut st.fluid, wall, |_, _| {});
-            contact += m;
+            contacts.push(m);
             st.wall_reflections += reflections;
         }
-        contact
+        contacts
     }
 }
 

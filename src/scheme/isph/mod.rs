@@ -162,6 +162,18 @@ pub struct Isph<R: Rheology> {
 }
 
 impl<R: Rheology> Isph<R> {
+    /// Whether a step splits the walls' force wall by wall (`walls` walls): in a closed cell
+    /// (no free surface) of an inelastic fluid with more than one wall. There every force the
+    /// walls exert on the fluid is a pair force with a virtual particle, which belongs to one
+    /// wall, or the momentum the implicit viscous solve changed, which is the virtual pairs'
+    /// viscous force at the solved velocities. Not split: with a free surface (the surface
+    /// terms' net is removed from every particle) and for an elastic fluid in a closed cell,
+    /// where the difference form of div Phi leaves a fluid-pair remainder that is the walls'
+    /// force as a whole but belongs to no one wall (`predictor`).
+    fn splits_wall_forces(&self, walls: usize) -> bool {
+        walls > 1 && !self.free_surface && !R::ELASTIC
+    }
+
     /// The scheme for the numerics `cfg` of an effective configuration, the constants `p` (which
     /// say whether the scene has a free surface and what `auto` means for it) and the plates of
     /// the initial state.
@@ -321,6 +333,9 @@ struct Books {
     /// Force of the walls on the fluid: the virtual particles' share of the pair forces of the
     /// predictor and the projection, and the momentum the implicit viscous solve changed.
     pub wall_on_fluid: Vec2,
+    /// `wall_on_fluid` wall by wall (in the state's order) where the step splits it
+    /// ([`Isph::splits_wall_forces`]); empty otherwise.
+    pub per_wall: Vec<Vec2>,
     /// `sum m u_ps . grad u`, the ALE remapping of (24): not a force (`State::remap_impulse`).
     pub remap_force: Vec2,
     /// Momentum the inlet takes from its particles to hold them at the inflow velocity.
@@ -381,7 +396,14 @@ impl<R: Rheology> Scheme for Isph<R> {
             phi,
             phi_virtual,
         };
-        let mut books = Books::default();
+        let mut books = Books {
+            per_wall: if self.splits_wall_forces(st.walls.len()) {
+                vec![Vec2::zeros(); st.walls.len()]
+            } else {
+                Vec::new()
+            },
+            ..Default::default()
+        };
 
         // Step 4: the predictor u* (24), the solvent viscosity (21) explicit or implicit.
         let u_star = self.predictor(st, &ctx, &f, &mut books)?;
@@ -393,15 +415,20 @@ impl<R: Rheology> Scheme for Isph<R> {
         let u_new = self.projection(&st.fluid, &ctx, &u_star, &pressure, &mut books);
 
         // Step 7: advection (27), then the plate contact and the books.
-        let contact = self.advect(st, &ctx, &f.u_ps, u_new, conf, books.held_momentum);
+        let contacts = self.advect(st, &ctx, &f.u_ps, u_new, conf, books.held_momentum);
+        let contact = contacts.iter().fold(Vec2::zeros(), |a, m| a + m);
+        for (fw, m) in books.per_wall.iter_mut().zip(&contacts) {
+            *fw += m / dt;
+        }
         st.wall_force = -books.wall_on_fluid - contact / dt;
         st.wall_impulse += -books.wall_on_fluid * dt - contact;
-        // One wall takes all the walls' force; with more, the implicit steps do not say which
-        // wall moved which momentum: not split.
+        // One wall takes all the walls' force; with more, each wall's share of the pair forces
+        // and of the implicit viscous solve where the step splits them
+        // ([`Isph::splits_wall_forces`]), not split otherwise.
         let per_wall = if st.walls.len() == 1 {
             vec![st.wall_force]
         } else {
-            Vec::new()
+            books.per_wall.iter().map(|f| -f).collect()
         };
         st.book_wall_forces(per_wall, dt);
         st.remap_impulse += books.remap_force * dt;

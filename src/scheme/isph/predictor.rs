@@ -57,13 +57,16 @@ impl<R: Rheology> Isph<R> {
         let w_old = 1.0 - theta;
         let mass = ctx.mass;
         let free_surface = self.free_surface;
-        let rows: Vec<(Vec2, Vec2, Vec2)> = (0..n)
+        let walls = books.per_wall.len();
+        let rows: Vec<(Vec2, Vec2, Vec2, Vec<Vec2>)> = (0..n)
             .into_par_iter()
             .with_min_len(MIN_TASK)
             .map(|i| {
                 let off = nl.offset(i);
                 let remap = kappa[i] * u_ps[i];
                 let (mut f, mut fw) = (Vec2::zeros(), Vec2::zeros());
+                // The virtual pairs' share wall by wall, where the step splits it.
+                let mut by_wall = vec![Vec2::zeros(); walls];
                 for (kk, &j) in nl.of(i).iter().enumerate() {
                     let j = j as usize;
                     let pj = ctx.source(j);
@@ -84,6 +87,9 @@ impl<R: Rheology> Isph<R> {
                         f += a;
                     } else {
                         fw += a;
+                        if walls > 0 {
+                            by_wall[ctx.virt.wall_of(j - n)] += a;
+                        }
                     }
                 }
                 // Closed channel: the difference form's fluid pairs do not cancel; what they
@@ -93,7 +99,7 @@ impl<R: Rheology> Isph<R> {
                 } else {
                     f + fw
                 };
-                (remap, f + fw, on_wall)
+                (remap, f + fw, on_wall, by_wall)
             })
             .collect();
         // Closed channel: the body force goes into the predictor (King & Lind eq. (24) as
@@ -107,9 +113,12 @@ impl<R: Rheology> Isph<R> {
             self.p.gravity
         };
         let mut rhs: Vec<Vec2> = Vec::with_capacity(n);
-        for (i, (remap, a, aw)) in rows.iter().enumerate() {
+        for (i, (remap, a, aw, by_wall)) in rows.iter().enumerate() {
             books.remap_force += remap * mass;
             books.wall_on_fluid += aw * mass;
+            for (b, w) in books.per_wall.iter_mut().zip(by_wall) {
+                *b += w * mass;
+            }
             rhs.push(fl.v[i] + (remap + a + g_pred) * dt);
         }
         let held = &ctx.held;

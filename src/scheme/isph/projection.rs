@@ -47,12 +47,15 @@ impl<R: Rheology> Isph<R> {
             )
             .collect();
         let p_ghost = self.ghost_surface_pressure(ctx, &pressure.p_fs);
-        let proj: Vec<(Vec2, Vec2, Vec2)> = (0..n)
+        let walls = books.per_wall.len();
+        let proj: Vec<(Vec2, Vec2, Vec2, Vec<Vec2>)> = (0..n)
             .into_par_iter()
             .with_min_len(MIN_TASK)
             .map(|i| {
                 let off = nl.offset(i);
                 let (mut f, mut fw) = (Vec2::zeros(), Vec2::zeros());
+                // The virtual pairs' share wall by wall, where the step splits it.
+                let mut by_wall = vec![Vec2::zeros(); walls];
                 for (kk, &j) in nl.of(i).iter().enumerate() {
                     let j = j as usize;
                     let a = pairs.grad[off + kk] * ((p_all[i] + p_all[j]) * (-vol / rho));
@@ -60,6 +63,9 @@ impl<R: Rheology> Isph<R> {
                         f += a;
                     } else {
                         fw += a;
+                        if walls > 0 {
+                            by_wall[ctx.virt.wall_of(j - n)] += a;
+                        }
                     }
                 }
                 // The positive form of p - p_s: the pressure beyond the surface continues as
@@ -70,7 +76,7 @@ impl<R: Rheology> Isph<R> {
                     }
                     _ => Vec2::zeros(),
                 };
-                (f + fw + surface, fw, surface)
+                (f + fw + surface, fw, surface, by_wall)
             })
             .collect();
         // The surface term is not a pair force and its sum does not cancel; a free surface
@@ -78,8 +84,11 @@ impl<R: Rheology> Isph<R> {
         // solvent's surface traction.
         let surface_mean = held.mean_over_free(proj.iter().map(|p| &p.2));
         let mut u_new = Vec::with_capacity(n);
-        for (i, (a, aw, _)) in proj.iter().enumerate() {
+        for (i, (a, aw, _, by_wall)) in proj.iter().enumerate() {
             books.wall_on_fluid += aw * mass;
+            for (b, w) in books.per_wall.iter_mut().zip(by_wall) {
+                *b += w * mass;
+            }
             let a = if p_ghost.is_empty() || held.holds(i) {
                 *a
             } else {

@@ -183,6 +183,7 @@ impl<R: Rheology> Isph<R> {
             )
             .map_err(|e| format!("implicit viscous step: {e}"))?;
             books.iterations[1] = (stats[0].iterations + stats[1].iterations) as u64;
+            self.split_viscous_force(ctx, &coef, theta, visc_curv, &u, books);
         }
         // The momentum the solve changed is the virtual particles' viscous force: the
         // fluid-fluid coefficients are symmetric, so their share cancels pair by pair (and the
@@ -192,6 +193,49 @@ impl<R: Rheology> Isph<R> {
         }
         books.viscous_time += t0.elapsed().as_secs_f64();
         Ok(u)
+    }
+
+    /// Each wall's share of the implicit viscous force on the fluid, where the step splits the
+    /// walls' force (`books.per_wall` not empty): the virtual pairs' terms of the solved
+    /// Laplacian, `theta sum_i m sum_{j of the wall} coef_ij (u_i - u_j) / rho` with the
+    /// no-slip continuation `u_j` of the solved `u`. Their sum over the walls is the momentum
+    /// the solve changed to the solver's tolerance (the fluid pairs cancel).
+    fn split_viscous_force(
+        &self,
+        ctx: &Context,
+        coef: &[f64],
+        theta: f64,
+        visc_curv: &[Vec2],
+        u: &[Vec2],
+        books: &mut Books,
+    ) {
+        let walls = books.per_wall.len();
+        if walls == 0 {
+            return;
+        }
+        let (n, nl) = (ctx.n, &ctx.nl);
+        let ue = ctx.virt.extend_velocity(u, visc_curv);
+        let c = theta * ctx.mass / self.rho;
+        let rows: Vec<Vec<Vec2>> = (0..n)
+            .into_par_iter()
+            .with_min_len(MIN_TASK)
+            .map(|i| {
+                let off = nl.offset(i);
+                let mut by_wall = vec![Vec2::zeros(); walls];
+                for (kk, &j) in nl.of(i).iter().enumerate() {
+                    let j = j as usize;
+                    if j >= n {
+                        by_wall[ctx.virt.wall_of(j - n)] += (ue[i] - ue[j]) * coef[off + kk];
+                    }
+                }
+                by_wall
+            })
+            .collect();
+        for by_wall in &rows {
+            for (b, w) in books.per_wall.iter_mut().zip(by_wall) {
+                *b += w * c;
+            }
+        }
     }
 
     /// Viscosity of the Laplacian term (solvent + EVSS's alpha_V eta0) at velocity gradient k.

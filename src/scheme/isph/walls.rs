@@ -97,6 +97,12 @@ impl Virtual {
         Ok(v)
     }
 
+    /// The wall (index into the state's walls) of virtual particle `k`.
+    #[inline]
+    pub fn wall_of(&self, k: usize) -> usize {
+        self.ranges.partition_point(|r| r.end <= k)
+    }
+
     /// Number of virtual particles.
     pub fn len(&self) -> usize {
         self.parent.len()

@@ -1,0 +1,212 @@
+//! Tests of the cylinder array: the cell under every scheme, the walls' forces split wall by
+//! wall, the momentum balance at steady state, King & Lind's steady state, refusals, threads.
+
+use super::*;
+use crate::config::Value;
+use crate::simulation::Simulation;
+
+/// King & Lind's cell (R = 1 m, rho = 1, eta0 = 41.66 Pa s, g = 300 m/s2: Re = 0.024),
+/// Newtonian, under `scheme` with `n` particles across the diameter; the automatic sound
+/// speed (600 m/s); ISPH in the Eulerian frame.
+fn cell(scheme: &str, n: i64) -> SceneConfig {
+    let mut cfg = SceneConfig::default();
+    for (k, v) in [
+        ("scene", Value::Text("cylinder_array".into())),
+        ("scheme", Value::Text(scheme.into())),
+        ("rheology", Value::Text("newtonian".into())),
+        ("density", Value::Real(1.0)),
+        ("viscosity", Value::Real(41.66)),
+        ("particles_per_diameter", Value::Integer(n)),
+    ] {
+        cfg.set(k, v).unwrap();
+    }
+    if scheme == "isph" {
+        // Lagrangian ISPH particles break up around the cylinder (measured: blown up at
+        // t = 0.35 s at 8 across, 0.028 s at 16); the Eulerian frame runs.
+        cfg.set("isph_frame", Value::Text("eulerian".into())).unwrap();
+    }
+    cfg
+}
+
+/// The cell builds and steps under every scheme: three walls (two straight, one circle), no
+/// particle inside the cylinder, the first steps move the fluid along the flow, and the flow
+/// pushes the cylinder along it.
+#[test]
+fn the_cell_builds_and_steps_under_every_scheme() {
+    for scheme in ["wcsph", "pdri", "isph"] {
+        let mut sim = Simulation::new(cell(scheme, 8)).unwrap();
+        let st = sim.state();
+        assert_eq!(st.walls.len(), 3);
+        assert!(st.walls[0].is_straight() && st.walls[1].is_straight());
+        assert!(!st.walls[CYLINDER].is_straight());
+        let cyl = &st.walls[CYLINDER];
+        assert!(st.fluid.x.iter().all(|x| cyl.signed_distance(x) > 0.0));
+        for _ in 0..5 {
+            let t = sim.time() + 1e-4;
+            sim.advance_to(t).unwrap_or_else(|e| panic!("{scheme}: {e}"));
+        }
+        let st = sim.state();
+        let momentum: f64 = st.fluid.v.iter().map(|v| v.x).sum();
+        assert!(momentum > 0.0, "{scheme}: the body force drives the flow");
+        // The outputs of the state itself (`Simulation::outputs` interpolates between steps).
+        let o = CylinderArray.outputs(st, sim.config());
+        assert!(o.cylinder_array.cylinder_drag > 0.0, "{scheme}");
+        assert!(o.cylinder_array.wall_shear_force > 0.0, "{scheme}");
+        assert!(o.cylinder_array.mean_velocity > 0.0, "{scheme}");
+        // The flux through a section is <u> A_fluid / L.
+        let area: f64 = st.fluid.rho.iter().map(|r| st.fluid.mass / r).sum();
+        let q = o.cylinder_array.mean_velocity * area / period(sim.config());
+        assert!(
+            (o.channel.flow_rate - q).abs() <= 1e-12 * q,
+            "{scheme}: flow rate {} against <u> A / L = {q}",
+            o.channel.flow_rate
+        );
+    }
+}
+
+/// ISPH splits the walls' force of an inelastic fluid in a closed cell wall by wall: the
+/// walls' shares add up to the force on all of them (to the viscous solver's tolerance: the
+/// shares of the implicit step are its virtual pairs' terms at the solved velocities), and by
+/// symmetry about y = H/2 the two channel walls carry the same shear and the cylinder no lift.
+#[test]
+fn isph_splits_the_walls_force_wall_by_wall() {
+    let mut sim = Simulation::new(cell("isph", 8)).unwrap();
+    sim.advance_to(0.05).unwrap();
+    let st = sim.state();
+    assert_eq!(st.wall_forces.len(), 3);
+    let sum = st.wall_forces.iter().fold(Vec2::zeros(), |a, f| a + f);
+    let total = st.wall_force;
+    assert!(
+        (sum - total).norm() <= 1e-6 * total.norm(),
+        "split {sum:?} against {total:?}"
+    );
+    let (bottom, top, cyl) = (st.wall_forces[0], st.wall_forces[1], st.wall_forces[CYLINDER]);
+    assert!(cyl.x > bottom.x && bottom.x > 0.0, "{:?}", st.wall_forces);
+    assert!((bottom.x - top.x).abs() <= 1e-3 * bottom.x, "{bottom:?} {top:?}");
+    assert!(cyl.y.abs() <= 1e-3 * cyl.x, "lift {cyl:?}");
+}
+
+/// Momentum balance (King & Lind's cell, Newtonian, 8 across the diameter): the books are
+/// exact, `sum m u` changes by the body force on the fluid less the walls' impulses (plus
+/// ISPH's ALE remapping) to round-off; and at steady state (t = 0.6 s, fifteen times the
+/// slowest viscous decay time H^2 / (pi^2 nu) = 0.039 s) the body force on the fluid equals
+/// drag plus wall shear within 0.5 %, averaged over 0.1 s.
+#[test]
+fn the_momentum_balance_closes_at_steady_state() {
+    for scheme in ["wcsph", "pdri", "isph"] {
+        let cfg = cell(scheme, 8);
+        let g = cfg.cylinder_array.cylinder_body_force;
+        let mut sim = Simulation::new(cfg).unwrap();
+        sim.advance_to(0.6).unwrap_or_else(|e| panic!("{scheme}: {e}"));
+        let take = |sim: &Simulation| {
+            let st = sim.state();
+            (
+                st.time,
+                sim.fluid_momentum(),
+                st.wall_impulses.clone(),
+                st.remap_impulse,
+            )
+        };
+        let (t0, p0, j0, r0) = take(&sim);
+        sim.advance_to(0.7).unwrap_or_else(|e| panic!("{scheme}: {e}"));
+        let (t1, p1, j1, r1) = take(&sim);
+        let span = t1 - t0;
+        let body = sim.fluid_mass() * g;
+        // The walls' impulses on the fluid over the window, wall by wall.
+        let on_walls: Vec<Vec2> = j1.iter().zip(&j0).map(|(a, b)| a - b).collect();
+        assert_eq!(on_walls.len(), 3, "{scheme}");
+        let walls = on_walls.iter().fold(Vec2::zeros(), |a, f| a + f);
+        let change = p1 - p0;
+        let books = Vec2::new(body * span, 0.0) - walls + (r1 - r0);
+        assert!(
+            (change - books).norm() <= 1e-6 * body * span,
+            "{scheme}: momentum change {change:?} against the books {books:?}"
+        );
+        let drag = on_walls[CYLINDER].x / span;
+        let shear = (on_walls[0].x + on_walls[1].x) / span;
+        let balance = (drag + shear) / body;
+        assert!(
+            (balance - 1.0).abs() < 5e-3,
+            "{scheme}: drag {drag} + wall shear {shear} = {balance} of the body force {body}"
+        );
+    }
+}
+
+/// A cylinder that does not fit the cell, and a body force that is not a number, are refused
+/// by name.
+#[test]
+fn a_cylinder_that_does_not_fit_is_refused_by_name() {
+    for (key, value) in [("cylinder_cell_height", 2.0), ("cylinder_cell_length", 1.5)] {
+        let mut cfg = cell("isph", 8);
+        cfg.set(key, Value::Real(value)).unwrap();
+        let e = Simulation::new(cfg).err().expect("refused").to_string();
+        assert!(e.contains(key) && e.contains("does not fit"), "{e}");
+    }
+    // A diameter equal to the height touches both walls.
+    let mut cfg = cell("isph", 8);
+    cfg.set("cylinder_cell_height", Value::Real(4.0)).unwrap();
+    cfg.set("cylinder_radius", Value::Real(2.0)).unwrap();
+    let e = Simulation::new(cfg).err().expect("refused").to_string();
+    assert!(e.contains("cylinder_cell_height"), "{e}");
+    for bad in [f64::NAN, f64::INFINITY] {
+        let e = cell("isph", 8)
+            .set("cylinder_body_force", Value::Real(bad))
+            .expect_err("refused")
+            .to_string();
+        assert!(e.contains("cylinder_body_force"), "{e}");
+    }
+}
+
+/// One and two threads give the same state bit for bit (the walls' split books included).
+#[test]
+fn the_cell_is_bitwise_identical_on_one_and_two_threads() {
+    for scheme in ["wcsph", "isph"] {
+        let run = |threads: i64| {
+            let mut cfg = cell(scheme, 8);
+            cfg.numerics.threads = threads;
+            let mut sim = Simulation::new(cfg).unwrap();
+            sim.advance_to(0.02).unwrap();
+            assert_eq!(sim.threads(), threads as usize);
+            assert!(sim.outputs().cylinder_array.cylinder_drag > 0.0);
+            sim.state().clone()
+        };
+        assert_eq!(run(1), run(2), "{scheme}");
+    }
+}
+
+/// King & Lind's steady state on a record of a flow rate relaxing as Q (1 - exp(-t / tau))
+/// with <u> = 1 m/s (time unit R / <u> = 1 s): steady at the first record where
+/// Q(t) - Q(t - 1) < 2 % of Q(t), and the means over the next
+/// three time units are the mean of the exponential.
+#[test]
+fn the_steady_state_is_king_and_linds_two_percent_over_a_time_unit() {
+    let (tau, q_inf, drag) = (0.5, 3.5, 4000.0);
+    let rows = |t_end: f64| -> Vec<(f64, Outputs)> {
+        (0..=(t_end / 0.01).round() as usize)
+            .map(|k| {
+                let t = k as f64 * 0.01;
+                let mut o = Outputs::default();
+                o.channel.flow_rate = q_inf * (1.0 - (-t / tau).exp());
+                o.cylinder_array.mean_velocity = 1.0;
+                o.cylinder_array.cylinder_drag = drag;
+                (t, o)
+            })
+            .collect()
+    };
+    let q = |t: f64| q_inf * (1.0 - (-t / tau).exp());
+    // The first record after the exact crossing.
+    let exact = (0..).map(|k| k as f64 * 0.01).find(|&t| t >= 1.0 && q(t) - q(t - 1.0) < 0.02 * q(t));
+    let s = steady_state(&rows(10.0), 1.0).expect("steady");
+    assert!((s.time - exact.unwrap()).abs() < 1e-9, "{s:?} {exact:?}");
+    assert_eq!(s.unit, 1.0);
+    let [d, _, _, u, qm] = s.means.expect("means");
+    assert!((d - drag).abs() < 1e-9 && (u - 1.0).abs() < 1e-12);
+    // The mean of q over [t_s, t_s + 3] exactly, against the trapezoidal rule's 1e-5.
+    let t0 = s.time;
+    let exact_mean = q_inf * (1.0 - tau * ((-t0 / tau).exp() - (-(t0 + 3.0) / tau).exp()) / 3.0);
+    assert!((qm - exact_mean).abs() < 1e-5 * q_inf, "{qm} {exact_mean}");
+    // A record that ends too soon has the time but no means; one that never settles, neither.
+    let short = steady_state(&rows(s.time + 1.0), 1.0).expect("steady");
+    assert_eq!((short.time, short.means), (s.time, None));
+    assert!(steady_state(&rows(1.5), 1.0).is_none());
+}
