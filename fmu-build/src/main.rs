@@ -67,13 +67,20 @@ fn run() -> Result<(), String> {
     let root = root();
     let committed_path = root.join("modelDescription").join("modelDescription.xml");
     let xml = model_description_xml();
+    let committed_path3 = root
+        .join("modelDescription")
+        .join("fmi3")
+        .join("modelDescription.xml");
+    let xml3 = viscosph::fmi3::model_description_xml();
     let args: Vec<String> = std::env::args().skip(1).collect();
     match args.first().map(String::as_str) {
         Some("--write-model-description") => {
-            fs::create_dir_all(committed_path.parent().expect("has a parent"))
-                .map_err(|e| e.to_string())?;
-            fs::write(&committed_path, &xml).map_err(|e| e.to_string())?;
-            println!("wrote {}", committed_path.display());
+            for (path, text) in [(&committed_path, &xml), (&committed_path3, &xml3)] {
+                fs::create_dir_all(path.parent().expect("has a parent"))
+                    .map_err(|e| e.to_string())?;
+                fs::write(path, text).map_err(|e| e.to_string())?;
+                println!("wrote {}", path.display());
+            }
             return Ok(());
         }
         Some(other) => {
@@ -84,13 +91,14 @@ fn run() -> Result<(), String> {
         None => {}
     }
 
-    let committed = fs::read_to_string(&committed_path).unwrap_or_default();
-    if committed != xml {
-        return Err(format!(
-            "{} differs from the interface generated from the parameter and output tables (src/config/, src/scene/); \
-             run `cargo run --release -p fmu-build -- --write-model-description` and commit it",
-            committed_path.display()
-        ));
+    for (path, text) in [(&committed_path, &xml), (&committed_path3, &xml3)] {
+        if fs::read_to_string(path).unwrap_or_default() != *text {
+            return Err(format!(
+                "{} differs from the interface generated from the parameter and output tables (src/config/, src/scene/); \
+                 run `cargo run --release -p fmu-build -- --write-model-description` and commit it",
+                path.display()
+            ));
+        }
     }
 
     if !(cfg!(target_os = "linux") && cfg!(target_arch = "x86_64")) {

@@ -23,7 +23,8 @@ macro_rules! unsupported {
         }
     };
 }
-
+/// For the FMI 3.0 entry points this FMU does not provide (`crate::fmi3`).
+pub(crate) use unsupported;
 
 // ---------------------------------------------------------------------------------------------
 // FMI 2.0 section 2.1.9: partial derivatives (not provided)
