@@ -192,6 +192,17 @@ pub(crate) fn unit_definitions() -> String {
     x
 }
 
+/// The enumeration types of the table, in table order: each one's name and items.
+pub(crate) fn enumeration_types(
+) -> impl Iterator<Item = (&'static str, &'static [(&'static str, &'static str)])> {
+    PARAMS.iter().filter_map(|p| match p.kind {
+        Kind::Enumeration {
+            type_name, items, ..
+        } => Some((type_name, items)),
+        _ => None,
+    })
+}
+
 /// The `<Item>` elements of an enumeration type (the same in FMI 2.0 and 3.0), 1-based.
 pub(crate) fn enumeration_items(items: &[(&str, &str)], indent: &str) -> String {
     let mut x = String::new();
@@ -222,6 +233,24 @@ pub(crate) fn log_categories(api: Api) -> String {
     x
 }
 
+/// The attributes of `<fmiModelDescription>` that FMI 2.0 and 3.0 share (after `modelName`
+/// and the GUID or instantiation token), one per line; `source` is the generator's file.
+pub(crate) fn shared_root_attributes(source: &str) -> String {
+    format!(
+        r#"  description="{}"
+  version="{}"
+  license="MIT"
+  generationTool="ViscoSPH {} ({source})"
+  variableNamingConvention="flat""#,
+        escape(
+            "Transient viscoelastic and shear-thinning free-surface flows by SPH: a 2D drop \
+             impacting a possibly inclined rigid plate"
+        ),
+        env!("CARGO_PKG_VERSION"),
+        env!("CARGO_PKG_VERSION"),
+    )
+}
+
 /// Placeholder replaced by the GUID once the rest of the document is known.
 const GUID_PLACEHOLDER: &str = "@GUID@";
 
@@ -237,18 +266,9 @@ fn document_without_guid() -> String {
   fmiVersion="2.0"
   modelName="{MODEL_IDENTIFIER}"
   guid="{GUID_PLACEHOLDER}"
-  description="{}"
-  version="{}"
-  license="MIT"
-  generationTool="ViscoSPH {} (src/fmi2/model_description.rs)"
-  variableNamingConvention="flat"
+{}
   numberOfEventIndicators="0">"#,
-        escape(
-            "Transient viscoelastic and shear-thinning free-surface flows by SPH: a 2D drop \
-             impacting a possibly inclined rigid plate"
-        ),
-        env!("CARGO_PKG_VERSION"),
-        env!("CARGO_PKG_VERSION"),
+        shared_root_attributes("src/fmi2/model_description.rs")
     );
     // FMI 2.0 section 4.3.1: capability flags of the Co-Simulation interface.
     let _ = writeln!(
@@ -270,17 +290,12 @@ fn document_without_guid() -> String {
     w.push_str(&unit_definitions());
 
     let _ = writeln!(w, "  <TypeDefinitions>");
-    for p in PARAMS.iter() {
-        if let Kind::Enumeration {
-            type_name, items, ..
-        } = p.kind
-        {
-            let _ = writeln!(w, r#"    <SimpleType name="{type_name}">"#);
-            let _ = writeln!(w, "      <Enumeration>");
-            w.push_str(&enumeration_items(items, "        "));
-            let _ = writeln!(w, "      </Enumeration>");
-            let _ = writeln!(w, "    </SimpleType>");
-        }
+    for (type_name, items) in enumeration_types() {
+        let _ = writeln!(w, r#"    <SimpleType name="{type_name}">"#);
+        let _ = writeln!(w, "      <Enumeration>");
+        w.push_str(&enumeration_items(items, "        "));
+        let _ = writeln!(w, "      </Enumeration>");
+        let _ = writeln!(w, "    </SimpleType>");
     }
     let _ = writeln!(w, "  </TypeDefinitions>");
 

@@ -13,13 +13,12 @@
 //! used; an array variable is one variable with a `<Dimension>`; the ModelStructure names
 //! value references, not indices.
 
-use crate::config::Kind;
 use crate::fmi2::instance::Api;
 use crate::fmi2::model_description::{
-    enumeration_items, escape, guid, log_categories, model_variables, unit_definitions, Causality,
-    ModelVariable, VarKind, DEFAULT_STEP_SIZE, DEFAULT_STOP_TIME, MODEL_IDENTIFIER,
+    enumeration_items, enumeration_types, escape, guid, log_categories, model_variables,
+    shared_root_attributes, unit_definitions, Causality, ModelVariable, VarKind, DEFAULT_STEP_SIZE,
+    DEFAULT_STOP_TIME, MODEL_IDENTIFIER,
 };
-use crate::scene::PARAMS;
 use std::fmt::Write;
 use std::sync::OnceLock;
 
@@ -87,18 +86,9 @@ pub fn model_description_xml() -> String {
   fmiVersion="3.0"
   modelName="{MODEL_IDENTIFIER}"
   instantiationToken="{}"
-  description="{}"
-  version="{}"
-  license="MIT"
-  generationTool="ViscoSPH {} (src/fmi3/model_description.rs)"
-  variableNamingConvention="flat">"#,
+{}>"#,
         guid(),
-        escape(
-            "Transient viscoelastic and shear-thinning free-surface flows by SPH: a 2D drop \
-             impacting a possibly inclined rigid plate"
-        ),
-        env!("CARGO_PKG_VERSION"),
-        env!("CARGO_PKG_VERSION"),
+        shared_root_attributes("src/fmi3/model_description.rs")
     );
     // FMI 3.0 section 4.3.1: the Co-Simulation capability flags, those of FMI 2.0 plus the new
     // ones (no event mode, no intermediate update, no early return).
@@ -123,15 +113,10 @@ pub fn model_description_xml() -> String {
     );
     w.push_str(&unit_definitions());
     let _ = writeln!(w, "  <TypeDefinitions>");
-    for p in PARAMS.iter() {
-        if let Kind::Enumeration {
-            type_name, items, ..
-        } = p.kind
-        {
-            let _ = writeln!(w, r#"    <EnumerationType name="{type_name}">"#);
-            w.push_str(&enumeration_items(items, "      "));
-            let _ = writeln!(w, "    </EnumerationType>");
-        }
+    for (type_name, items) in enumeration_types() {
+        let _ = writeln!(w, r#"    <EnumerationType name="{type_name}">"#);
+        w.push_str(&enumeration_items(items, "      "));
+        let _ = writeln!(w, "    </EnumerationType>");
     }
     let _ = writeln!(w, "  </TypeDefinitions>");
     w.push_str(&log_categories(Api::Fmi3));

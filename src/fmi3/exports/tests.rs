@@ -112,24 +112,28 @@ unsafe extern "C" fn record(
     ));
 }
 
-/// An FMI 3.0 instance logging into `log`, with `particles_per_diameter` = 12 (a small drop)
-/// set through fmi3SetInt32.
-unsafe fn small_instance(log: &mut Box<Log>) -> fmi3Instance {
-    let token = c_text(&guid());
-    let c = fmi3InstantiateCoSimulation(
+/// `fmi3InstantiateCoSimulation` with `token`, logging into `log`.
+unsafe fn instantiate(token: &CStr, event_mode_used: bool, log: &mut Log) -> fmi3Instance {
+    fmi3InstantiateCoSimulation(
         c"drop".as_ptr(),
         token.as_ptr(),
         ptr::null(),
         false,
         false,
-        false,
+        event_mode_used,
         false,
         ptr::null(),
         0,
-        &mut **log as *mut Log as *mut c_void,
+        log as *mut Log as *mut c_void,
         Some(record),
         None,
-    );
+    )
+}
+
+/// An FMI 3.0 instance logging into `log`, with `particles_per_diameter` = 12 (a small drop)
+/// set through fmi3SetInt32.
+unsafe fn small_instance(log: &mut Box<Log>) -> fmi3Instance {
+    let c = instantiate(&c_text(&guid()), false, log);
     assert!(!c.is_null());
     let ppd = [vr("particles_per_diameter")];
     assert_eq!(fmi3SetInt32(c, ppd.as_ptr(), 1, [12].as_ptr(), 1), OK);
@@ -354,40 +358,12 @@ fn wrong_calls_answer_error_in_fmi3_words() {
             Some(record)
         )
         .is_null());
-        assert!(fmi3InstantiateCoSimulation(
-            c"x".as_ptr(),
-            c"{00000000-0000-0000-0000-000000000000}".as_ptr(),
-            ptr::null(),
-            false,
-            false,
-            false,
-            false,
-            ptr::null(),
-            0,
-            env,
-            Some(record),
-            None
-        )
-        .is_null());
+        assert!(instantiate(c"{00000000-0000-0000-0000-000000000000}", false, &mut log).is_null());
         assert!(
             log.last().unwrap().contains("instantiationToken"),
             "{log:?}"
         );
-        assert!(fmi3InstantiateCoSimulation(
-            c"x".as_ptr(),
-            token.as_ptr(),
-            ptr::null(),
-            false,
-            false,
-            true,
-            false,
-            ptr::null(),
-            0,
-            env,
-            Some(record),
-            None
-        )
-        .is_null());
+        assert!(instantiate(&token, true, &mut log).is_null());
         assert!(log.last().unwrap().contains("eventModeUsed"), "{log:?}");
 
         let c = small_instance(&mut log);
