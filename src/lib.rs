@@ -3,7 +3,8 @@
 //!
 //! Three seed schemes (Fang 2006 WCSPH, Ren 2015 PDRI-SPH, King & Lind 2021 ISPH), the
 //! constitutive models of King & Lind's Table I plus the Cross model, a drop impacting a possibly
-//! inclined plate, and an FMI 2.0 Co-Simulation layer over the same [`simulation::Simulation`].
+//! inclined plate, and FMI 2.0 and FMI 3.0 Co-Simulation layers over the same
+//! [`simulation::Simulation`].
 //! Papers are cited by authors, year and equation number (e.g. "Fang 2006 eq. (38)"); the full
 //! citations are in `docs/references.md`.
 
@@ -15,6 +16,7 @@ pub mod diagnostics;
 pub mod dim;
 pub mod eos;
 pub mod fmi2;
+pub mod fmi3;
 pub mod geometry;
 pub mod health;
 pub mod kernel;

@@ -325,3 +325,101 @@ fn drop_height_is_the_older_name_of_initial_drop_height() {
     assert_eq!(a.drop.initial_drop_height, 0.05);
     assert_eq!(a.get("initial_drop_height").unwrap(), Value::Real(0.05));
 }
+
+/// The FMI 3.0 model description (`modelDescription/fmi3/modelDescription.xml`): the committed
+/// file is the generated one, and, parsed, every variable of the FMI 2.0 description is there
+/// with the same value reference, causality, variability, start, range and unit (FMI 3.0
+/// section 2.4.7: Float64 for Real, Int32 for Integer, Enumeration, String with a `<Start>`
+/// child), one independent variable `time`, and the ModelStructure lists exactly the outputs,
+/// by value reference, with `dependencies=""` as Output.
+#[test]
+fn fmi3_model_description_has_the_same_variables() {
+    const PATH3: &str = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/modelDescription/fmi3/modelDescription.xml"
+    );
+    let text3 = std::fs::read_to_string(PATH3).expect("the FMI 3.0 model description exists");
+    assert!(
+        text3 == viscosph::fmi3::model_description_xml(),
+        "modelDescription/fmi3/modelDescription.xml is stale: run \
+         `cargo run --release -p fmu-build -- --write-model-description` and commit it"
+    );
+    let doc3 = Document::parse(&text3).expect("well-formed XML");
+    let root3 = doc3.root_element();
+    assert_eq!(attr(root3, "fmiVersion"), "3.0");
+    assert_eq!(attr(root3, "instantiationToken"), guid());
+    let vars3: Vec<Node> = child(root3, "ModelVariables")
+        .children()
+        .filter(|n| n.is_element())
+        .collect();
+    let text2 = committed();
+    let doc2 = Document::parse(&text2).expect("well-formed XML");
+    let vars2: Vec<Node> = elements(
+        child(doc2.root_element(), "ModelVariables"),
+        "ScalarVariable",
+    )
+    .collect();
+    assert_eq!(vars3.len(), vars2.len() + 1, "FMI 2.0's variables and time");
+    let independent: Vec<&Node> = vars3
+        .iter()
+        .filter(|v| v.attribute("causality") == Some("independent"))
+        .collect();
+    assert_eq!(independent.len(), 1);
+    assert_eq!(attr(*independent[0], "name"), "time");
+    for v2 in &vars2 {
+        let name = attr(*v2, "name");
+        let v3 = vars3
+            .iter()
+            .find(|v| v.attribute("name") == Some(name))
+            .unwrap_or_else(|| panic!("{name} is not in the FMI 3.0 description"));
+        for a in ["valueReference", "causality", "variability", "initial"] {
+            assert_eq!(v3.attribute(a), v2.attribute(a), "{name}: {a}");
+        }
+        let ty2 = v2
+            .children()
+            .find(|c| c.is_element())
+            .expect("a type element");
+        let expected = match ty2.tag_name().name() {
+            "Real" => "Float64",
+            "Integer" => "Int32",
+            other => other,
+        };
+        assert_eq!(v3.tag_name().name(), expected, "{name}");
+        if expected == "String" {
+            assert_eq!(
+                child(*v3, "Start").attribute("value"),
+                ty2.attribute("start"),
+                "{name}"
+            );
+        } else {
+            for a in ["start", "min", "max", "unit", "declaredType"] {
+                assert_eq!(v3.attribute(a), ty2.attribute(a), "{name}: {a}");
+            }
+        }
+    }
+    let ms = child(root3, "ModelStructure");
+    let output_vrs: Vec<&str> = vars3
+        .iter()
+        .filter(|v| v.attribute("causality") == Some("output"))
+        .map(|v| attr(*v, "valueReference"))
+        .collect();
+    assert_eq!(output_vrs.len(), OUTPUTS.len());
+    let listed: Vec<&str> = elements(ms, "Output")
+        .map(|u| {
+            assert_eq!(u.attribute("dependencies"), Some(""));
+            attr(u, "valueReference")
+        })
+        .collect();
+    assert_eq!(listed, output_vrs);
+    let initial: Vec<&str> = elements(ms, "InitialUnknown")
+        .map(|u| attr(u, "valueReference"))
+        .collect();
+    assert_eq!(initial, output_vrs);
+    let types3: Vec<&str> = elements(child(root3, "TypeDefinitions"), "EnumerationType")
+        .map(|t| attr(t, "name"))
+        .collect();
+    let types2: Vec<&str> = elements(child(doc2.root_element(), "TypeDefinitions"), "SimpleType")
+        .map(|t| attr(t, "name"))
+        .collect();
+    assert_eq!(types3, types2);
+}

@@ -6,6 +6,11 @@
 //! binaries/win64/ViscoSPH.dll       release cdylib for x86_64-pc-windows-gnu, if MinGW-w64 is here
 //! documentation/index.html          generated from the parameter and output tables
 //! ```
+//! and `target/fmu/ViscoSPH-fmi3.fmu` (FMI 3.0, from the same library, which exports both
+//! APIs): `modelDescription/fmi3/modelDescription.xml`, `binaries/x86_64-linux/ViscoSPH.so`,
+//! `binaries/x86_64-windows/ViscoSPH.dll` and `binaries/aarch64-linux/ViscoSPH.so` (cross-built
+//! by `cargo zigbuild --target aarch64-unknown-linux-gnu.2.17` with a rustc that has the aarch64
+//! standard library: see [`aarch64_rustc`]).
 //! (debug info stripped when `strip` / `x86_64-w64-mingw32-strip` exist).
 //!
 //! Usage: `cargo run --release -p fmu-build [-- --write-model-description]`, in the default
@@ -67,13 +72,20 @@ fn run() -> Result<(), String> {
     let root = root();
     let committed_path = root.join("modelDescription").join("modelDescription.xml");
     let xml = model_description_xml();
+    let committed_path3 = root
+        .join("modelDescription")
+        .join("fmi3")
+        .join("modelDescription.xml");
+    let xml3 = viscosph::fmi3::model_description_xml();
     let args: Vec<String> = std::env::args().skip(1).collect();
     match args.first().map(String::as_str) {
         Some("--write-model-description") => {
-            fs::create_dir_all(committed_path.parent().expect("has a parent"))
-                .map_err(|e| e.to_string())?;
-            fs::write(&committed_path, &xml).map_err(|e| e.to_string())?;
-            println!("wrote {}", committed_path.display());
+            for (path, text) in [(&committed_path, &xml), (&committed_path3, &xml3)] {
+                fs::create_dir_all(path.parent().expect("has a parent"))
+                    .map_err(|e| e.to_string())?;
+                fs::write(path, text).map_err(|e| e.to_string())?;
+                println!("wrote {}", path.display());
+            }
             return Ok(());
         }
         Some(other) => {
@@ -84,13 +96,14 @@ fn run() -> Result<(), String> {
         None => {}
     }
 
-    let committed = fs::read_to_string(&committed_path).unwrap_or_default();
-    if committed != xml {
-        return Err(format!(
-            "{} differs from the interface generated from the parameter and output tables (src/config/, src/scene/); \
-             run `cargo run --release -p fmu-build -- --write-model-description` and commit it",
-            committed_path.display()
-        ));
+    for (path, text) in [(&committed_path, &xml), (&committed_path3, &xml3)] {
+        if fs::read_to_string(path).unwrap_or_default() != *text {
+            return Err(format!(
+                "{} differs from the interface generated from the parameter and output tables (src/config/, src/scene/); \
+                 run `cargo run --release -p fmu-build -- --write-model-description` and commit it",
+                path.display()
+            ));
+        }
     }
 
     if !(cfg!(target_os = "linux") && cfg!(target_arch = "x86_64")) {
@@ -173,18 +186,86 @@ fn run() -> Result<(), String> {
         Err(why) => notes.push(format!("no win64 binary: {why}")),
     }
 
-    let fmu_path = out_dir.join(format!("{MODEL_IDENTIFIER}.fmu"));
-    let tmp_path = out_dir.join(format!("{MODEL_IDENTIFIER}.fmu.{pid}.tmp"));
+    pack(
+        &out_dir,
+        &format!("{MODEL_IDENTIFIER}.fmu"),
+        &xml,
+        &binaries,
+    )?;
+
+    // FMI 3.0: the same libraries (one cdylib exports fmi2* and fmi3*) under FMI 3.0's platform
+    // tuples (FMI 3.0 section 2.5.1.1), and aarch64-linux, which FMI 2.0 cannot name.
+    let mut binaries3: Vec<(String, Vec<u8>)> = binaries
+        .iter()
+        .map(|(name, bytes)| {
+            let name = name
+                .replace("binaries/linux64/", "binaries/x86_64-linux/")
+                .replace("binaries/win64/", "binaries/x86_64-windows/");
+            (name, bytes.clone())
+        })
+        .collect();
+    match (aarch64_rustc(), zig_tools(&root)) {
+        (Ok(rustc), Some((path, zig))) => {
+            let dir = root.join("target").join("cross-aarch64");
+            cargo_build(
+                &cargo,
+                &root,
+                &["zigbuild", "--target", AARCH64_ZIG_TARGET],
+                &dir,
+                &[
+                    ("PATH", path.as_os_str()),
+                    ("CARGO_ZIGBUILD_ZIG_PATH", zig.as_os_str()),
+                    ("RUSTC", rustc.as_os_str()),
+                ],
+            )?;
+            let lib = dir
+                .join("aarch64-unknown-linux-gnu")
+                .join("release")
+                .join("libviscosph.so");
+            let bytes = strip(
+                "aarch64-linux-gnu-strip",
+                &lib,
+                &out_dir.join(format!("{MODEL_IDENTIFIER}.{pid}.aarch64.so")),
+            )?;
+            binaries3.push((
+                format!("binaries/aarch64-linux/{MODEL_IDENTIFIER}.so"),
+                bytes,
+            ));
+        }
+        (Err(why), _) => notes.push(format!("no aarch64-linux binary in the FMI 3.0 FMU: {why}")),
+        (_, None) => notes.push(
+            "no aarch64-linux binary in the FMI 3.0 FMU: cargo-zigbuild and zig are not installed"
+                .into(),
+        ),
+    }
+    pack(
+        &out_dir,
+        &format!("{MODEL_IDENTIFIER}-fmi3.fmu"),
+        &xml3,
+        &binaries3,
+    )?;
+    for n in &notes {
+        eprintln!("fmu-build: note: {n}");
+    }
+    Ok(())
+}
+
+/// Write the FMU `file_name` into `out_dir` (through a temporary file and a rename, which is
+/// atomic: a test reading the FMU never sees half an archive) and say so.
+fn pack(
+    out_dir: &Path,
+    file_name: &str,
+    xml: &str,
+    binaries: &[(String, Vec<u8>)],
+) -> Result<(), String> {
+    let fmu_path = out_dir.join(file_name);
+    let tmp_path = out_dir.join(format!("{file_name}.{}.tmp", std::process::id()));
     let platforms: Vec<&str> = binaries
         .iter()
         .map(|(name, _)| name.split('/').nth(1).unwrap_or("?"))
         .collect();
-    write_zip(&tmp_path, &xml, &binaries, &docs::index_html(&platforms))?;
-    // Rename is atomic: a test reading the FMU never sees half an archive.
+    write_zip(&tmp_path, xml, binaries, &docs::index_html(&platforms))?;
     fs::rename(&tmp_path, &fmu_path).map_err(|e| e.to_string())?;
-    for n in &notes {
-        eprintln!("fmu-build: note: {n}");
-    }
     println!(
         "wrote {} ({} kB; platforms: {})",
         fmu_path.display(),
@@ -192,6 +273,49 @@ fn run() -> Result<(), String> {
         platforms.join(", ")
     );
     Ok(())
+}
+
+/// cargo-zigbuild's target for aarch64 Linux, glibc 2.17 symbol versions like x86_64's.
+const AARCH64_ZIG_TARGET: &str = "aarch64-unknown-linux-gnu.2.17";
+
+/// The rustc that has an aarch64-unknown-linux-gnu standard library: rustup's when it has
+/// one, else Debian's rustc-web with its arm64 standard library, unpacked by
+/// tests/install_toolchains.sh into `~/.cache/viscosph/rust-aarch64` (rustup cannot download
+/// targets on a machine that reaches only package registries), or `$VISCOSPH_AARCH64_RUSTC`.
+fn aarch64_rustc() -> Result<PathBuf, String> {
+    const TARGET: &str = "aarch64-unknown-linux-gnu";
+    let has_target = |rustc: &Path| {
+        Command::new(rustc)
+            .args(["--print", "sysroot"])
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| {
+                Path::new(String::from_utf8_lossy(&o.stdout).trim())
+                    .join("lib/rustlib")
+                    .join(TARGET)
+                    .join("lib")
+                    .is_dir()
+            })
+            .unwrap_or(false)
+    };
+    let mut candidates: Vec<PathBuf> = Vec::new();
+    if let Some(p) = std::env::var_os("VISCOSPH_AARCH64_RUSTC") {
+        candidates.push(PathBuf::from(p));
+    }
+    candidates.push(PathBuf::from("rustc"));
+    if let Some(home) = std::env::var_os("HOME") {
+        candidates.push(Path::new(&home).join(".cache/viscosph/rust-aarch64/rustc"));
+    }
+    candidates
+        .into_iter()
+        .find(|c| has_target(c))
+        .ok_or_else(|| {
+            format!(
+                "no rustc with the {TARGET} standard library (tests/install_toolchains.sh unpacks \
+                 Debian's rustc-web and libstd-rust-web-dev:arm64 into ~/.cache/viscosph/rust-aarch64)"
+            )
+        })
 }
 
 /// cargo-zigbuild's target: x86_64 Linux, glibc 2.17 symbol versions (CentOS 7 and later).

@@ -13,11 +13,15 @@
 //!   ones in their own files);
 //! - [`types`] are the C types of the FMI 2.0 headers.
 //!
+//! The FMI 3.0 layer (`crate::fmi3`) is a second thin C API over the same [`instance`]: it
+//! creates an instance that words its messages in FMI 3.0 ([`instance::Api`]) and forwards to
+//! the entry points here wherever the two standards' functions coincide.
+//!
 //! No global mutable state: everything lives in the instance, so several instances in one
 //! process, on several threads, are independent (FMI 2.0 section 2.1.5,
 //! `canBeInstantiatedOnlyOncePerProcess = false`). The working directory is never changed.
 
-mod exports;
+pub(crate) mod exports;
 pub mod instance;
 pub mod model_description;
 pub mod types;

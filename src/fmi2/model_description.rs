@@ -12,6 +12,7 @@
 //! (FMI 2.0 section 2.2): CoSimulation, UnitDefinitions, TypeDefinitions, LogCategories,
 //! DefaultExperiment, ModelVariables, ModelStructure.
 
+use super::instance::Api;
 use crate::config::{range_text, Kind, ParamSpec};
 use crate::scene::{input_rows, name_variables, OUTPUTS, PARAMS};
 use std::fmt::Write;
@@ -162,51 +163,11 @@ fn used_units() -> Vec<&'static str> {
     names
 }
 
-/// Placeholder replaced by the GUID once the rest of the document is known.
-const GUID_PLACEHOLDER: &str = "@GUID@";
-
-/// The document with a placeholder instead of the GUID.
-fn document_without_guid() -> String {
+/// The `<UnitDefinitions>` element, the same in FMI 2.0 and 3.0: every unit the tables use,
+/// in table order.
+pub(crate) fn unit_definitions() -> String {
     let mut x = String::new();
     let w = &mut x;
-    // `write!` into a String cannot fail; the results are ignored below for brevity.
-    let _ = writeln!(w, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
-    let _ = writeln!(
-        w,
-        r#"<fmiModelDescription
-  fmiVersion="2.0"
-  modelName="{MODEL_IDENTIFIER}"
-  guid="{GUID_PLACEHOLDER}"
-  description="{}"
-  version="{}"
-  license="MIT"
-  generationTool="ViscoSPH {} (src/fmi2/model_description.rs)"
-  variableNamingConvention="flat"
-  numberOfEventIndicators="0">"#,
-        escape(
-            "Transient viscoelastic and shear-thinning free-surface flows by SPH: a 2D drop \
-             impacting a possibly inclined rigid plate"
-        ),
-        env!("CARGO_PKG_VERSION"),
-        env!("CARGO_PKG_VERSION"),
-    );
-    // FMI 2.0 section 4.3.1: capability flags of the Co-Simulation interface.
-    let _ = writeln!(
-        w,
-        r#"  <CoSimulation
-    modelIdentifier="{MODEL_IDENTIFIER}"
-    needsExecutionTool="false"
-    canHandleVariableCommunicationStepSize="true"
-    canInterpolateInputs="false"
-    maxOutputDerivativeOrder="0"
-    canRunAsynchronuously="false"
-    canBeInstantiatedOnlyOncePerProcess="false"
-    canNotUseMemoryManagementFunctions="true"
-    canGetAndSetFMUstate="true"
-    canSerializeFMUstate="true"
-    providesDirectionalDerivative="false"/>"#
-    );
-
     let _ = writeln!(w, "  <UnitDefinitions>");
     for name in used_units() {
         let u = UNITS
@@ -229,157 +190,172 @@ fn document_without_guid() -> String {
         );
     }
     let _ = writeln!(w, "  </UnitDefinitions>");
+    x
+}
 
-    let _ = writeln!(w, "  <TypeDefinitions>");
-    for p in PARAMS.iter() {
-        if let Kind::Enumeration {
+/// The enumeration types of the table, in table order: each one's name and items.
+pub(crate) fn enumeration_types(
+) -> impl Iterator<Item = (&'static str, &'static [(&'static str, &'static str)])> {
+    PARAMS.iter().filter_map(|p| match p.kind {
+        Kind::Enumeration {
             type_name, items, ..
-        } = p.kind
-        {
-            let _ = writeln!(w, r#"    <SimpleType name="{type_name}">"#);
-            let _ = writeln!(w, "      <Enumeration>");
-            for (i, (name, descr)) in items.iter().enumerate() {
-                let _ = writeln!(
-                    w,
-                    r#"        <Item name="{}" value="{}" description="{}"/>"#,
-                    escape(name),
-                    i + 1,
-                    escape(descr)
-                );
-            }
-            let _ = writeln!(w, "      </Enumeration>");
-            let _ = writeln!(w, "    </SimpleType>");
-        }
-    }
-    let _ = writeln!(w, "  </TypeDefinitions>");
+        } => Some((type_name, items)),
+        _ => None,
+    })
+}
 
-    let _ = writeln!(w, "  <LogCategories>");
-    for (name, descr) in LOG_CATEGORIES {
+/// The `<Item>` elements of an enumeration type (the same in FMI 2.0 and 3.0), 1-based.
+pub(crate) fn enumeration_items(items: &[(&str, &str)], indent: &str) -> String {
+    let mut x = String::new();
+    for (i, (name, descr)) in items.iter().enumerate() {
         let _ = writeln!(
-            w,
-            r#"    <Category name="{name}" description="{}"/>"#,
+            x,
+            r#"{indent}<Item name="{}" value="{}" description="{}"/>"#,
+            escape(name),
+            i + 1,
             escape(descr)
         );
     }
-    let _ = writeln!(w, "  </LogCategories>");
+    x
+}
+
+/// The `<LogCategories>` element, its descriptions in the words of `api`.
+pub(crate) fn log_categories(api: Api) -> String {
+    let mut x = String::new();
+    let _ = writeln!(x, "  <LogCategories>");
+    for (name, descr) in LOG_CATEGORIES {
+        let _ = writeln!(
+            x,
+            r#"    <Category name="{name}" description="{}"/>"#,
+            escape(&api.wording(descr))
+        );
+    }
+    let _ = writeln!(x, "  </LogCategories>");
+    x
+}
+
+/// The attributes of `<fmiModelDescription>` that FMI 2.0 and 3.0 share (after `modelName`
+/// and the GUID or instantiation token), one per line; `source` is the generator's file.
+pub(crate) fn shared_root_attributes(source: &str) -> String {
+    format!(
+        r#"  description="{}"
+  version="{}"
+  license="MIT"
+  generationTool="ViscoSPH {} ({source})"
+  variableNamingConvention="flat""#,
+        escape(
+            "Transient viscoelastic and shear-thinning free-surface flows by SPH: a 2D drop \
+             impacting a possibly inclined rigid plate"
+        ),
+        env!("CARGO_PKG_VERSION"),
+        env!("CARGO_PKG_VERSION"),
+    )
+}
+
+/// Placeholder replaced by the GUID once the rest of the document is known.
+const GUID_PLACEHOLDER: &str = "@GUID@";
+
+/// The document with a placeholder instead of the GUID.
+fn document_without_guid() -> String {
+    let mut x = String::new();
+    let w = &mut x;
+    // `write!` into a String cannot fail; the results are ignored below for brevity.
+    let _ = writeln!(w, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
+    let _ = writeln!(
+        w,
+        r#"<fmiModelDescription
+  fmiVersion="2.0"
+  modelName="{MODEL_IDENTIFIER}"
+  guid="{GUID_PLACEHOLDER}"
+{}
+  numberOfEventIndicators="0">"#,
+        shared_root_attributes("src/fmi2/model_description.rs")
+    );
+    // FMI 2.0 section 4.3.1: capability flags of the Co-Simulation interface.
+    let _ = writeln!(
+        w,
+        r#"  <CoSimulation
+    modelIdentifier="{MODEL_IDENTIFIER}"
+    needsExecutionTool="false"
+    canHandleVariableCommunicationStepSize="true"
+    canInterpolateInputs="false"
+    maxOutputDerivativeOrder="0"
+    canRunAsynchronuously="false"
+    canBeInstantiatedOnlyOncePerProcess="false"
+    canNotUseMemoryManagementFunctions="true"
+    canGetAndSetFMUstate="true"
+    canSerializeFMUstate="true"
+    providesDirectionalDerivative="false"/>"#
+    );
+
+    w.push_str(&unit_definitions());
+
+    let _ = writeln!(w, "  <TypeDefinitions>");
+    for (type_name, items) in enumeration_types() {
+        let _ = writeln!(w, r#"    <SimpleType name="{type_name}">"#);
+        let _ = writeln!(w, "      <Enumeration>");
+        w.push_str(&enumeration_items(items, "        "));
+        let _ = writeln!(w, "      </Enumeration>");
+        let _ = writeln!(w, "    </SimpleType>");
+    }
+    let _ = writeln!(w, "  </TypeDefinitions>");
+
+    w.push_str(&log_categories(Api::Fmi2));
 
     let _ = writeln!(
         w,
         r#"  <DefaultExperiment startTime="0" stopTime="{DEFAULT_STOP_TIME}" stepSize="{DEFAULT_STEP_SIZE}"/>"#
     );
 
+    let vars = model_variables();
     let _ = writeln!(w, "  <ModelVariables>");
     let mut index = 0usize;
-    for p in PARAMS.iter().filter(|p| !p.is_input()) {
-        index += 1;
-        let _ = writeln!(w, "    <!-- index {index} -->");
-        let _ = writeln!(
-            w,
-            r#"    <ScalarVariable name="{}" valueReference="{}" description="{}" causality="parameter" variability="fixed" initial="exact">"#,
-            escape(p.name),
-            p.value_reference,
-            escape(&parameter_description(p))
-        );
-        let unit_attr = if p.unit.is_empty() {
-            String::new()
-        } else {
-            format!(r#" unit="{}""#, escape(p.unit))
-        };
-        match p.kind {
-            Kind::Real {
-                default, min, max, ..
-            } => {
-                let _ = writeln!(
-                    w,
-                    r#"      <Real{unit_attr} start="{default}" min="{min}" max="{max}"/>"#
-                );
+    let mut outputs = Vec::new();
+    for v in &vars {
+        for (name, vr) in v.scalars() {
+            index += 1;
+            if v.causality == Causality::Output {
+                outputs.push(index);
             }
-            Kind::Integer { default, min, max } => {
-                let _ = writeln!(
+            let _ = writeln!(w, "    <!-- index {index} -->");
+            let initial = v
+                .initial
+                .map(|i| format!(r#" initial="{i}""#))
+                .unwrap_or_default();
+            let _ = writeln!(
+                w,
+                r#"    <ScalarVariable name="{}" valueReference="{vr}" description="{}" causality="{}" variability="{}"{initial}>"#,
+                escape(&name),
+                escape(&v.description),
+                v.causality.name(),
+                v.variability,
+            );
+            let unit = v.unit_attribute();
+            let _ = match &v.kind {
+                VarKind::Real { start: None, .. } => writeln!(w, "      <Real{unit}/>"),
+                VarKind::Real {
+                    start: Some(start),
+                    min,
+                    max,
+                    ..
+                } => writeln!(
                     w,
-                    r#"      <Integer start="{default}" min="{min}" max="{max}"/>"#
-                );
-            }
-            Kind::Enumeration {
-                type_name,
-                items,
-                default,
-            } => {
-                let start = items
-                    .iter()
-                    .position(|(n, _)| *n == default)
-                    .expect("enumeration default is one of its items")
-                    + 1;
-                let _ = writeln!(
+                    r#"      <Real{unit} start="{start}" min="{min}" max="{max}"/>"#
+                ),
+                VarKind::Integer { start, min, max } => writeln!(
+                    w,
+                    r#"      <Integer start="{start}" min="{min}" max="{max}"/>"#
+                ),
+                VarKind::Enumeration { type_name, start } => writeln!(
                     w,
                     r#"      <Enumeration declaredType="{type_name}" start="{start}"/>"#
-                );
-            }
+                ),
+                VarKind::String { start } => {
+                    writeln!(w, r#"      <String start="{}"/>"#, escape(start))
+                }
+            };
+            let _ = writeln!(w, "    </ScalarVariable>");
         }
-        let _ = writeln!(w, "    </ScalarVariable>");
-    }
-    let first_output = index + 1;
-    for o in OUTPUTS.iter() {
-        index += 1;
-        let _ = writeln!(w, "    <!-- index {index} -->");
-        let _ = writeln!(
-            w,
-            r#"    <ScalarVariable name="{}" valueReference="{}" description="{}" causality="output" variability="continuous" initial="calculated">"#,
-            escape(o.name),
-            o.value_reference,
-            escape(o.description)
-        );
-        if o.unit.is_empty() {
-            let _ = writeln!(w, "      <Real/>");
-        } else {
-            let _ = writeln!(w, r#"      <Real unit="{}"/>"#, escape(o.unit));
-        }
-        let _ = writeln!(w, "    </ScalarVariable>");
-    }
-    let last_output = index;
-    // The String twins of the enumerations, after the outputs so that the indices of the
-    // variables above (and the ModelStructure) are those of earlier versions.
-    for (p, name, vr) in name_variables() {
-        index += 1;
-        let _ = writeln!(w, "    <!-- index {index} -->");
-        let _ = writeln!(
-            w,
-            r#"    <ScalarVariable name="{}" valueReference="{vr}" description="{}" causality="parameter" variability="fixed" initial="exact">"#,
-            escape(&name),
-            escape(&name_variable_description(p))
-        );
-        let _ = writeln!(
-            w,
-            r#"      <String start="{}"/>"#,
-            escape(name_variable_start(p))
-        );
-        let _ = writeln!(w, "    </ScalarVariable>");
-    }
-    // The inputs, last for the same reason, in declaration order (the shared plate's first,
-    // then each scene's). FMI 2.0 section 2.2.7: an input has a start value and no `initial`
-    // attribute; continuous, because a master may change it at every communication point.
-    for p in input_rows() {
-        index += 1;
-        let Kind::Real {
-            default, min, max, ..
-        } = p.kind
-        else {
-            panic!("input '{}' must be a Real row", p.name);
-        };
-        let _ = writeln!(w, "    <!-- index {index} -->");
-        let _ = writeln!(
-            w,
-            r#"    <ScalarVariable name="{}" valueReference="{}" description="{}" causality="input" variability="continuous">"#,
-            escape(p.name),
-            p.value_reference,
-            escape(&parameter_description(p))
-        );
-        let _ = writeln!(
-            w,
-            r#"      <Real unit="{}" start="{default}" min="{min}" max="{max}"/>"#,
-            escape(p.unit)
-        );
-        let _ = writeln!(w, "    </ScalarVariable>");
     }
     let _ = writeln!(w, "  </ModelVariables>");
 
@@ -398,18 +374,208 @@ fn document_without_guid() -> String {
     // start value, e.g. the jet's inflow speed).
     let _ = writeln!(w, "  <ModelStructure>");
     let _ = writeln!(w, "    <Outputs>");
-    for i in first_output..=last_output {
+    for i in &outputs {
         let _ = writeln!(w, r#"      <Unknown index="{i}" dependencies=""/>"#);
     }
     let _ = writeln!(w, "    </Outputs>");
     let _ = writeln!(w, "    <InitialUnknowns>");
-    for i in first_output..=last_output {
+    for i in &outputs {
         let _ = writeln!(w, r#"      <Unknown index="{i}"/>"#);
     }
     let _ = writeln!(w, "    </InitialUnknowns>");
     let _ = writeln!(w, "  </ModelStructure>");
     let _ = writeln!(w, "</fmiModelDescription>");
     x
+}
+
+/// The causality of a variable (FMI 2.0 section 2.2.7, FMI 3.0 section 2.4.7.4).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Causality {
+    Parameter,
+    Input,
+    Output,
+}
+
+impl Causality {
+    pub fn name(self) -> &'static str {
+        match self {
+            Causality::Parameter => "parameter",
+            Causality::Input => "input",
+            Causality::Output => "output",
+        }
+    }
+}
+
+/// The type of a variable with its start value and range, as the tables give them.
+#[derive(Debug, Clone, PartialEq)]
+pub enum VarKind {
+    /// FMI 2.0 Real, FMI 3.0 Float64; an output has no start value and no range.
+    Real {
+        unit: &'static str,
+        start: Option<f64>,
+        min: f64,
+        max: f64,
+    },
+    /// FMI 2.0 Integer, FMI 3.0 Int32.
+    Integer {
+        start: i64,
+        min: i64,
+        max: i64,
+    },
+    /// An Enumeration of the TypeDefinitions, `start` its 1-based item index.
+    Enumeration {
+        type_name: &'static str,
+        start: usize,
+    },
+    String {
+        start: &'static str,
+    },
+}
+
+/// An array variable: FMI 3.0 writes it as one variable with a `<Dimension start="len"/>`,
+/// FMI 2.0 as `len` scalars `name_001`, `name_002`, ... with the value references
+/// `first_element_vr`, `first_element_vr + 1`, ... (the ones the instance reads); the array's
+/// own value reference exists only in FMI 3.0 and is translated to those by the FMI 3.0 layer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Array {
+    pub len: usize,
+    pub first_element_vr: u32,
+}
+
+/// One variable of the interface, from one row of the tables; both standards' model
+/// descriptions are written from the same list ([`model_variables`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModelVariable {
+    pub name: String,
+    pub value_reference: u32,
+    pub description: String,
+    pub causality: Causality,
+    pub variability: &'static str,
+    pub initial: Option<&'static str>,
+    pub kind: VarKind,
+    pub array: Option<Array>,
+}
+
+impl ModelVariable {
+    /// The scalars this variable is in FMI 2.0: itself, or each element of an array.
+    pub fn scalars(&self) -> Vec<(String, u32)> {
+        match self.array {
+            None => vec![(self.name.clone(), self.value_reference)],
+            Some(a) => (0..a.len)
+                .map(|i| {
+                    (
+                        format!("{}_{:03}", self.name, i + 1),
+                        a.first_element_vr + i as u32,
+                    )
+                })
+                .collect(),
+        }
+    }
+
+    /// ` unit="..."` for a Real with a unit, else nothing.
+    pub fn unit_attribute(&self) -> String {
+        match self.kind {
+            VarKind::Real { unit, .. } if !unit.is_empty() => {
+                format!(r#" unit="{}""#, escape(unit))
+            }
+            _ => String::new(),
+        }
+    }
+}
+
+/// A parameter row of the table as a variable of the interface.
+fn parameter_variable(p: &ParamSpec) -> ModelVariable {
+    let kind = match p.kind {
+        Kind::Real {
+            default, min, max, ..
+        } => VarKind::Real {
+            unit: p.unit,
+            start: Some(default),
+            min,
+            max,
+        },
+        Kind::Integer { default, min, max } => VarKind::Integer {
+            start: default,
+            min,
+            max,
+        },
+        Kind::Enumeration {
+            type_name,
+            items,
+            default,
+        } => VarKind::Enumeration {
+            type_name,
+            start: items
+                .iter()
+                .position(|(n, _)| *n == default)
+                .expect("enumeration default is one of its items")
+                + 1,
+        },
+    };
+    let input = p.is_input();
+    ModelVariable {
+        name: p.name.to_string(),
+        value_reference: p.value_reference,
+        description: parameter_description(p),
+        causality: if input {
+            Causality::Input
+        } else {
+            Causality::Parameter
+        },
+        // FMI 2.0 section 2.2.7: an input has a start value and no `initial` attribute;
+        // continuous, because a master may change it at every communication point.
+        variability: if input { "continuous" } else { "fixed" },
+        initial: (!input).then_some("exact"),
+        kind,
+        array: None,
+    }
+}
+
+/// Every variable of the interface in FMI 2.0 index order: the parameters, the outputs, the
+/// String twins of the enumerations, the inputs (each group after the earlier ones so that the
+/// indices of earlier versions stay).
+pub fn model_variables() -> Vec<ModelVariable> {
+    let mut vars: Vec<ModelVariable> = PARAMS
+        .iter()
+        .filter(|p| !p.is_input())
+        .map(|p| parameter_variable(p))
+        .collect();
+    vars.extend(OUTPUTS.iter().map(|o| ModelVariable {
+        name: o.name.to_string(),
+        value_reference: o.value_reference,
+        description: o.description.to_string(),
+        causality: Causality::Output,
+        variability: "continuous",
+        initial: Some("calculated"),
+        kind: VarKind::Real {
+            unit: o.unit,
+            start: None,
+            min: f64::NEG_INFINITY,
+            max: f64::INFINITY,
+        },
+        array: None,
+    }));
+    vars.extend(name_variables().map(|(p, name, vr)| ModelVariable {
+        name,
+        value_reference: vr,
+        description: name_variable_description(p),
+        causality: Causality::Parameter,
+        variability: "fixed",
+        initial: Some("exact"),
+        kind: VarKind::String {
+            start: name_variable_start(p),
+        },
+        array: None,
+    }));
+    vars.extend(input_rows().map(|p| {
+        assert!(
+            matches!(p.kind, Kind::Real { .. }),
+            "input '{}' must be a Real row",
+            p.name
+        );
+        parameter_variable(p)
+    }));
+    vars
 }
 
 /// 64-bit FNV-1a hash, seeded: deterministic across builds and platforms, unlike `std`'s hasher.

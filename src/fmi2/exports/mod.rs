@@ -26,13 +26,13 @@ use std::ptr;
 
 #[cfg(test)]
 mod call_sequences;
-mod fmu_state;
+pub(crate) mod fmu_state;
 #[cfg(test)]
 mod tests;
-mod unsupported;
+pub(crate) mod unsupported;
 
-/// What an `fmi2Component` points to.
-struct Handle {
+/// What an `fmi2Component` (and an `fmi3Instance`) points to.
+pub(crate) struct Handle {
     tag: u64,
     inst: Instance,
 }
@@ -40,7 +40,7 @@ struct Handle {
 const INSTANCE_TAG: u64 = u64::from_le_bytes(*b"ViscoSPH");
 
 /// The instance behind `c`, or `None` for NULL or a pointer that is not a live instance.
-unsafe fn instance<'a>(c: fmi2Component) -> Option<&'a mut Instance> {
+pub(crate) unsafe fn instance<'a>(c: fmi2Component) -> Option<&'a mut Instance> {
     if c.is_null() {
         return None;
     }
@@ -60,7 +60,7 @@ fn panic_message(p: &(dyn std::any::Any + Send)) -> String {
 
 /// Run `f` on the instance behind `c` inside `catch_unwind`. NULL or a foreign pointer answers
 /// `fmi2Error` (there is no logger to tell); a panic is logged and answers `fmi2Error`.
-unsafe fn guarded(
+pub(crate) unsafe fn guarded(
     c: fmi2Component,
     func: &'static str,
     f: impl FnOnce(&mut Instance) -> Status,
@@ -79,7 +79,7 @@ unsafe fn guarded(
 }
 
 /// A C array as a slice; `None` if it is NULL although `n > 0`.
-unsafe fn slice<'a, T>(p: *const T, n: usize) -> Option<&'a [T]> {
+pub(crate) unsafe fn slice<'a, T>(p: *const T, n: usize) -> Option<&'a [T]> {
     if n == 0 {
         Some(&[])
     } else if p.is_null() {
@@ -90,7 +90,7 @@ unsafe fn slice<'a, T>(p: *const T, n: usize) -> Option<&'a [T]> {
 }
 
 /// A writable C array as a slice; `None` if it is NULL although `n > 0`.
-unsafe fn slice_mut<'a, T>(p: *mut T, n: usize) -> Option<&'a mut [T]> {
+pub(crate) unsafe fn slice_mut<'a, T>(p: *mut T, n: usize) -> Option<&'a mut [T]> {
     if n == 0 {
         Some(&mut [])
     } else if p.is_null() {
@@ -100,12 +100,12 @@ unsafe fn slice_mut<'a, T>(p: *mut T, n: usize) -> Option<&'a mut [T]> {
     }
 }
 
-fn null_arg(inst: &mut Instance, func: &str, arg: &str) -> Status {
+pub(crate) fn null_arg(inst: &mut Instance, func: &str, arg: &str) -> Status {
     inst.fail_error(func, format!("argument {arg} must not be NULL"))
 }
 
 /// A Rust string as a C string, with any NUL byte replaced so nothing is cut off.
-fn c_text(s: &str) -> CString {
+pub(crate) fn c_text(s: &str) -> CString {
     CString::new(s.replace('\0', "\u{fffd}")).expect("NUL bytes were replaced")
 }
 
@@ -224,6 +224,12 @@ unsafe fn instantiate(
             env!("CARGO_PKG_VERSION")
         ),
     );
+    into_component(inst)
+}
+
+/// The pointer handed to the importer for `inst` (freed by `fmi2FreeInstance` /
+/// `fmi3FreeInstance`).
+pub(crate) fn into_component(inst: Instance) -> fmi2Component {
     Box::into_raw(Box::new(Handle {
         tag: INSTANCE_TAG,
         inst,

@@ -7,15 +7,24 @@
 use super::*;
 
 /// An entry point the FMU has but does not support: it reports why through the logger and
-/// returns fmi2Error (through [`guarded`], so it too never panics across the boundary).
+/// returns fmi2Error (through [`guarded`], so it too never panics across the boundary). With
+/// `-> T` after the argument list the status is returned as `T` (FMI 3.0's `fmi3Status`, same
+/// values).
 macro_rules! unsupported {
     ($name:ident($($arg:ident: $ty:ty),* $(,)?), $why:expr $(,)?) => {
+        unsupported!($name($($arg: $ty),*) -> $crate::fmi2::types::fmi2Status, $why);
+    };
+    ($name:ident($($arg:ident: $ty:ty),* $(,)?) -> $status:ty, $why:expr $(,)?) => {
         #[no_mangle]
-        pub unsafe extern "C" fn $name(c: fmi2Component, $($arg: $ty),*) -> fmi2Status {
-            guarded(c, stringify!($name), |i| i.unsupported(stringify!($name), $why))
+        pub unsafe extern "C" fn $name(c: *mut std::os::raw::c_void, $($arg: $ty),*) -> $status {
+            $crate::fmi2::exports::guarded(c, stringify!($name), |i| {
+                i.unsupported(stringify!($name), $why)
+            }) as $status
         }
     };
 }
+/// For the FMI 3.0 entry points this FMU does not provide (`crate::fmi3`).
+pub(crate) use unsupported;
 
 // ---------------------------------------------------------------------------------------------
 // FMI 2.0 section 2.1.9: partial derivatives (not provided)

@@ -17,12 +17,15 @@
 //! `max_seconds_per_do_step`), and a stop time or a communication step whose estimated step
 //! count breaks the run-length rule of [`crate::budget`] is refused before any work.
 
+mod api;
 mod state;
 #[cfg(test)]
 mod tests;
 mod variables;
 
+pub use api::Api;
 pub use state::Snapshot;
+pub use variables::IntKind;
 
 use super::model_description::{guid, DEFAULT_STOP_TIME, LOG_CATEGORIES};
 use super::types::Status;
@@ -137,6 +140,8 @@ fn error<T>(msg: impl Into<String>) -> Answer<T> {
 /// One FMU instance.
 pub struct Instance {
     name: String,
+    /// The C API the instance was created through: the words of its messages.
+    api: Api,
     sink: LogSink,
     /// Enabled log categories, indexed by [`Category`].
     enabled: [bool; 5],
@@ -179,6 +184,7 @@ impl Instance {
         enabled[Category::Discard as usize] = true;
         Instance {
             name: name.to_string(),
+            api: Api::Fmi2,
             sink,
             enabled,
             phase: Phase::Instantiated,
@@ -197,8 +203,24 @@ impl Instance {
         }
     }
 
+    /// The same instance answering to `api`: its messages name that version's calls.
+    pub fn with_api(mut self, api: Api) -> Instance {
+        self.api = api;
+        self
+    }
+
     pub fn name(&self) -> &str {
         &self.name
+    }
+    /// The end of the last completed communication step (`fmi2LastSuccessfulTime`, the
+    /// `lastSuccessfulTime` out-argument of `fmi3DoStep`).
+    pub fn last_successful_time(&self) -> f64 {
+        self.last_successful_time
+    }
+    /// Whether the slave cannot go on (`fmi2Terminated`, the `terminateSimulation`
+    /// out-argument of `fmi3DoStep`).
+    pub fn wants_to_terminate(&self) -> bool {
+        self.wants_to_terminate
     }
     pub fn phase(&self) -> Phase {
         self.phase
@@ -219,7 +241,7 @@ impl Instance {
     /// Log `message` under `category` if that category is enabled.
     pub fn log(&self, category: Category, status: Status, message: &str) {
         if self.enabled[category as usize] {
-            (self.sink)(status, category.name(), message);
+            (self.sink)(status, category.name(), &self.api.wording(message));
         }
     }
 

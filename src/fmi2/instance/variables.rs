@@ -5,6 +5,30 @@ use super::*;
 use crate::config::{Kind, ParamSpec, Value};
 use crate::scene::{input_rows, name_variable_by_vr, param_by_vr, NAME_SUFFIX};
 
+/// Which integer parameters an integer accessor reads and writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum IntKind {
+    /// Integer and Enumeration (FMI 2.0's `fmi2Integer` serves both).
+    Any,
+    /// Integer only (FMI 3.0's Int32).
+    Integer,
+    /// Enumeration only (FMI 3.0 accesses them as Int64).
+    Enumeration,
+}
+
+impl IntKind {
+    fn accepts(self, kind: &Kind) -> bool {
+        matches!(
+            (self, kind),
+            (IntKind::Any | IntKind::Integer, Kind::Integer { .. })
+                | (
+                    IntKind::Any | IntKind::Enumeration,
+                    Kind::Enumeration { .. }
+                )
+        )
+    }
+}
+
 /// A variable of the interface, found by value reference.
 pub(super) enum Var {
     Param(&'static ParamSpec),
@@ -131,14 +155,27 @@ impl Instance {
     }
 
     pub fn get_integer(&mut self, vrs: &[u32], values: &mut [i32]) -> Status {
-        self.get_each("fmi2GetInteger", vrs, values, |s, vr, var| match var {
-            Var::Param(p) => match (p.kind, s.cfg.get(p.name)) {
-                (Kind::Integer { .. } | Kind::Enumeration { .. }, Ok(Value::Integer(i))) => {
+        self.get_integer_of("fmi2GetInteger", IntKind::Any, vrs, values)
+    }
+
+    /// The integer getters: `fmi2GetInteger` reads Integer and Enumeration parameters alike
+    /// ([`IntKind::Any`]); FMI 3.0 reads an Int32 by `fmi3GetInt32` and an Enumeration by
+    /// `fmi3GetInt64` (FMI 3.0 section 2.2.6.2), each refusing the other.
+    pub fn get_integer_of(
+        &mut self,
+        func: &'static str,
+        kind: IntKind,
+        vrs: &[u32],
+        values: &mut [i32],
+    ) -> Status {
+        self.get_each(func, vrs, values, |s, vr, var| match var {
+            Var::Param(p) if kind.accepts(&p.kind) => match s.cfg.get(p.name) {
+                Ok(Value::Integer(i)) => {
                     Ok(i32::try_from(i).expect("table ranges fit in fmi2Integer"))
                 }
                 _ => Err(wrong_type(vr, var, "Get")),
             },
-            Var::Output(_) | Var::Name(_) => Err(wrong_type(vr, var, "Get")),
+            _ => Err(wrong_type(vr, var, "Get")),
         })
     }
 
@@ -224,11 +261,23 @@ impl Instance {
     /// `fmi2SetInteger`, for Integer and Enumeration parameters (enumerations by their 1-based
     /// item index, FMI 2.0 section 2.2.3). Same checks as [`Instance::set_real`].
     pub fn set_integer(&mut self, vrs: &[u32], values: &[i32]) -> Status {
+        self.set_integer_of("fmi2SetInteger", IntKind::Any, vrs, values)
+    }
+
+    /// The integer setters, each for the parameters of its [`IntKind`] (see
+    /// [`Instance::get_integer_of`]).
+    pub fn set_integer_of(
+        &mut self,
+        func: &'static str,
+        kind: IntKind,
+        vrs: &[u32],
+        values: &[i32],
+    ) -> Status {
         self.set_parameters(
-            "fmi2SetInteger",
+            func,
             vrs,
             values,
-            |k| matches!(k, Kind::Integer { .. } | Kind::Enumeration { .. }),
+            |k| kind.accepts(k),
             |i| Value::Integer(i64::from(i)),
         )
     }

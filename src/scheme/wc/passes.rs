@@ -65,7 +65,9 @@ fn delta<const PERIODIC: bool>(ax: f64, ay: f64, b: &Rec, l: f64) -> (f64, f64) 
     (dx, dy)
 }
 
-/// How many pairs ahead pass 2 prefetches a neighbour's record.
+/// How many pairs ahead pass 2 prefetches a neighbour's record (x86_64 only: the prefetch
+/// intrinsic is that architecture's).
+#[cfg(target_arch = "x86_64")]
 const PREFETCH: usize = 8;
 
 /// The loop-invariant numbers of the pair terms.
