@@ -19,9 +19,9 @@
 //! Outputs: `cylinder_drag` and `cylinder_lift`, the force of the fluid on the cylinder alone
 //! along and across the flow per unit depth, and `wall_shear_force`, the force of the fluid on
 //! the two channel walls along the flow (all three 0 where the scheme does not split the walls'
-//! force: ISPH with an elastic fluid; see `State::wall_forces`); `mean_velocity` <u> = sum V u_x
-//! / sum V over the fluid (the velocity of King & Lind's Wi = <u> lambda / R and
-//! Re = rho <u> R / eta0, which the CLI's summary prints), and the channel's `flow_rate`,
+//! force: ISPH with an elastic fluid; see `State::wall_forces`); `mean_velocity` ⟨u⟩ = sum V u_x
+//! / sum V over the fluid (the velocity of King & Lind's Wi = ⟨u⟩ lambda / R and
+//! Re = rho ⟨u⟩ R / eta0, which the CLI's summary prints), and the channel's `flow_rate`,
 //! sum V u_x / L, the flux through a cross-section.
 //!
 //! **Momentum balance.** The walls' forces are booked as the momentum each wall gives the fluid
@@ -60,7 +60,7 @@ crate::outputs! {
         cylinder_drag: vr 120, unit "N/m"; "Cylinder array: force of the fluid on the cylinder along the flow, per unit depth (0 in other scenes)",
         cylinder_lift: vr 121, unit "N/m"; "Cylinder array: force of the fluid on the cylinder across the flow, per unit depth (0 in other scenes)",
         wall_shear_force: vr 172, unit "N/m"; "Cylinder array: force of the fluid on the two channel walls together along the flow, per unit depth (0 in other scenes)",
-        mean_velocity: vr 173, unit "m/s"; "Cylinder array: mean flow velocity <u> over the fluid, sum V u / sum V (0 in other scenes)",
+        mean_velocity: vr 173, unit "m/s"; "Cylinder array: mean flow velocity ⟨u⟩ over the fluid, sum V u / sum V (0 in other scenes)",
     }
 }
 
@@ -119,7 +119,7 @@ fn mean_velocity_and_flow_rate(fl: &Fluid, period: f64) -> (f64, f64) {
 
 /// King & Lind's steady state in a record of outputs (section IV.B): the first recorded time
 /// `time` at which the flow rate differs by less than 2 % from its value one time unit
-/// `unit` = R / <u> earlier (linear between records), and the means of the cylinder's outputs
+/// `unit` = R / ⟨u⟩ earlier (linear between records), and the means of the cylinder's outputs
 /// and the flow rate over the next three time units (trapezoidal rule over the records), if
 /// the record reaches that far.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -190,7 +190,7 @@ pub fn steady_state(series: &[(f64, Outputs)], radius: f64) -> Option<SteadyStat
     Some(SteadyState { time, unit, means })
 }
 
-/// The drag coefficient K = F / (eta0 <u>) of King & Lind's cell for a Newtonian fluid, from
+/// The drag coefficient K = F / (eta0 ⟨u⟩) of King & Lind's cell for a Newtonian fluid, from
 /// the finite-element solution in `validation/cylinder_array/` (Taylor-Hood, extrapolated,
 /// uncertainty 2.4e-6).
 pub const REFERENCE_DRAG_COEFFICIENT: f64 = 92.82999;
@@ -348,9 +348,9 @@ impl Scene for CylinderArray {
         }
     }
 
-    /// The flow at the end: <u>, Q, the drag and its coefficient K = F / (eta0 <u>) (against
+    /// The flow at the end: ⟨u⟩, Q, the drag and its coefficient K = F / (eta0 ⟨u⟩) (against
     /// the finite-element value of King & Lind's Newtonian cell), the momentum balance, and
-    /// King & Lind's Wi = <u> lambda / R and Re = rho <u> R / eta0.
+    /// King & Lind's Wi = ⟨u⟩ lambda / R and Re = rho ⟨u⟩ R / eta0.
     fn summary(
         &self,
         cfg: &SceneConfig,
@@ -370,8 +370,8 @@ impl Scene for CylinderArray {
         let u = c.mean_velocity;
         let body = st.fluid.len() as f64 * st.fluid.mass * cfg.cylinder_array.cylinder_body_force;
         let mut lines = vec![format!(
-            "cylinder array at t = {t:.6} s: <u> = {u:.6e} m/s, flow rate {:.6e} m2/s, \
-             Wi = <u> lambda / R = {:.4}, Re = rho <u> R / eta0 = {:.4e}",
+            "cylinder array at t = {t:.6} s: ⟨u⟩ = {u:.6e} m/s, flow rate {:.6e} m2/s, \
+             Wi = ⟨u⟩ lambda / R = {:.4}, Re = rho ⟨u⟩ R / eta0 = {:.4e}",
             o.channel.flow_rate,
             u * cfg.fluid.relaxation_time / r,
             rho * u * r / eta0
@@ -384,7 +384,7 @@ impl Scene for CylinderArray {
             ));
         } else {
             lines.push(format!(
-                "cylinder array: drag {:.6e} N/m, lift {:.3e} N/m, K = F / (eta0 <u>) = {:.5} \
+                "cylinder array: drag {:.6e} N/m, lift {:.3e} N/m, K = F / (eta0 ⟨u⟩) = {:.5} \
                  (finite elements, King & Lind's Newtonian cell: {REFERENCE_DRAG_COEFFICIENT}); \
                  wall shear force {:.6e} N/m; drag + wall shear = {:.5} of the body force on \
                  the fluid ({body:.6e} N/m)",
@@ -398,16 +398,16 @@ impl Scene for CylinderArray {
         let Some(steady) = steady_state(series, r) else {
             lines.push(
                 "cylinder array: not steady (King & Lind's criterion: the flow rate changes by \
-                 less than 2 % over one time unit R / <u>)"
+                 less than 2 % over one time unit R / ⟨u⟩)"
                     .to_string(),
             );
             return lines;
         };
         lines.push(match steady.means {
             Some([drag, lift, shear, u, q]) => format!(
-                "cylinder array: steady at t = {:.6} s (time unit R / <u> = {:.4e} s); means \
+                "cylinder array: steady at t = {:.6} s (time unit R / ⟨u⟩ = {:.4e} s); means \
                  over the next 3 time units: drag {drag:.6e} N/m, lift {lift:.3e} N/m, wall \
-                 shear force {shear:.6e} N/m, <u> = {u:.6e} m/s, flow rate {q:.6e} m2/s, \
+                 shear force {shear:.6e} N/m, ⟨u⟩ = {u:.6e} m/s, flow rate {q:.6e} m2/s, \
                  K = {:.5}, drag + wall shear = {:.5} of the body force",
                 steady.time,
                 steady.unit,
@@ -415,7 +415,7 @@ impl Scene for CylinderArray {
                 (drag + shear) / body
             ),
             None => format!(
-                "cylinder array: steady at t = {:.6} s (time unit R / <u> = {:.4e} s); the run \
+                "cylinder array: steady at t = {:.6} s (time unit R / ⟨u⟩ = {:.4e} s); the run \
                  ends before 3 more time units, no means",
                 steady.time, steady.unit
             ),

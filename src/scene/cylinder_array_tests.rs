@@ -53,12 +53,12 @@ fn the_cell_builds_and_steps_under_every_scheme() {
         assert!(o.cylinder_array.cylinder_drag > 0.0, "{scheme}");
         assert!(o.cylinder_array.wall_shear_force > 0.0, "{scheme}");
         assert!(o.cylinder_array.mean_velocity > 0.0, "{scheme}");
-        // The flux through a section is <u> A_fluid / L.
+        // The flux through a section is ⟨u⟩ A_fluid / L.
         let area: f64 = st.fluid.rho.iter().map(|r| st.fluid.mass / r).sum();
         let q = o.cylinder_array.mean_velocity * area / period(sim.config());
         assert!(
             (o.channel.flow_rate - q).abs() <= 1e-12 * q,
-            "{scheme}: flow rate {} against <u> A / L = {q}",
+            "{scheme}: flow rate {} against ⟨u⟩ A / L = {q}",
             o.channel.flow_rate
         );
     }
@@ -175,7 +175,7 @@ fn the_cell_is_bitwise_identical_on_one_and_two_threads() {
 }
 
 /// King & Lind's steady state on a record of a flow rate relaxing as Q (1 - exp(-t / tau))
-/// with <u> = 1 m/s (time unit R / <u> = 1 s): steady at the first record where
+/// with ⟨u⟩ = 1 m/s (time unit R / ⟨u⟩ = 1 s): steady at the first record where
 /// Q(t) - Q(t - 1) < 2 % of Q(t), and the means over the next
 /// three time units are the mean of the exponential.
 #[test]

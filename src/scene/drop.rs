@@ -91,7 +91,7 @@ crate::outputs! {
 /// (into the plate) to `wall_pressure_k`, the tangential part (downhill) to `wall_shear_k`,
 /// each divided by the bin length, so the bins integrate (sum times bin length) to
 /// `wall_force_normal` and `wall_force_tangential` when the wetted plate lies within the span.
-/// In 2D a force per unit depth over a length is a pressure [Pa]. The moment about the impact
+/// In 2D a force per unit depth over a length is a pressure \[Pa\]. The moment about the impact
 /// point is sum s F_n over every particle (the tangential forces act on the plate line through
 /// it), and the centre of pressure is the moment over the normal force. Zero when the scheme does
 /// not give the load by particle (isph).

@@ -26,6 +26,9 @@ static lib_t open_lib(const char *p) { return dlopen(p, RTLD_NOW | RTLD_LOCAL); 
 static void *sym(lib_t l, const char *n) { return dlsym(l, n); }
 #endif
 
+/* Room for every output the FMU declares (the load along the plate alone has 48). */
+#define MAX_OUTPUTS 1024
+
 typedef void *fmi2Component;
 typedef unsigned int fmi2ValueReference;
 typedef double fmi2Real;
@@ -133,8 +136,8 @@ static int step_to(void *c, double t, double h) {
     } while (0)
 
 int main(int argc, char **argv) {
-    fmi2ValueReference out[64];
-    fmi2Real values[64];
+    fmi2ValueReference out[MAX_OUTPUTS];
+    fmi2Real values[MAX_OUTPUTS];
     size_t n_out = 0;
     double stop, step, t = 0.0;
     long k, n_steps;
@@ -155,8 +158,13 @@ int main(int argc, char **argv) {
     stop = atof(argv[3]);
     step = atof(argv[4]);
     list = argv[5];
-    for (tok = strtok(list, ","); tok && n_out < 64; tok = strtok(NULL, ","))
+    for (tok = strtok(list, ","); tok; tok = strtok(NULL, ",")) {
+        if (n_out == MAX_OUTPUTS) {
+            fprintf(stderr, "importer: more than %d outputs\n", MAX_OUTPUTS);
+            return 2;
+        }
         out[n_out++] = (fmi2ValueReference)strtoul(tok, NULL, 10);
+    }
 
     lib = open_lib(argv[1]);
     if (!lib) {

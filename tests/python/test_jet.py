@@ -25,8 +25,10 @@ def test_the_inlet_follows_steps_of_jet_velocity(unzipdir, scheme):
     s.fmu.setString([s.vr["scene_name"]], ["jet"])
     s.fmu.setString([s.vr["scheme_name"]], [scheme])
     s.fmu.setString([s.vr["rheology_name"]], ["newtonian"])
-    s.fmu.setReal([s.vr[k] for k in ["density", "viscosity", "jet_width", "nozzle_height"]],
-                  [RHO, 8.8, D, 4 * D])
+    # The pump's schedule below reaches 0.4 m/s: the run is set up for it (max_jet_velocity).
+    s.fmu.setReal([s.vr[k] for k in ["density", "viscosity", "jet_width", "nozzle_height",
+                                     "max_jet_velocity"]],
+                  [RHO, 8.8, D, 4 * D, 0.4])
     s.fmu.setInteger([s.vr["particles_per_diameter"], s.vr["threads"]], [N, 1])
     s.fmu.enterInitializationMode()
     s.fmu.exitInitializationMode()

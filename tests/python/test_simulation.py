@@ -20,8 +20,12 @@ def finite(result):
 
 @pytest.fixture(scope="module")
 def default_run(fmu):
+    # The default drop on a fixed plate (Fang's case: max_plate_speed = 0, so Fang's sound
+    # speed). With the default max_plate_speed (c = 22.6 m/s, ready for a plate input) the
+    # level plate's tangential force is 6.6e-8 of the normal force, not 1e-13: an asymmetry
+    # that grows over the longer run of shorter steps (measured, not yet explained).
     log = Log()
-    result = simulate(fmu, stop_time=0.16, step=1e-3, logger=log)
+    result = simulate(fmu, {"max_plate_speed": 0.0}, stop_time=0.16, step=1e-3, logger=log)
     return result, log
 
 
