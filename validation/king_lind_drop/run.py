@@ -93,17 +93,18 @@ for row, (fluid, title) in enumerate(FLUIDS.items()):
     name = REFERENCE[fluid][2]
     runs_path = REF / REFERENCE[fluid][1]
     if runs_path.exists():
+        # The reference's other meshes (the gas of its reference curve), thin and grey.
         all_runs = read(runs_path)
         keys = sorted({(int(r["per_width"]), r["rho_ratio"], r["mu_ratio"]) for r in all_runs})
         for n, rr, mr in keys:
-            if float(rr) != 1e-3 or float(mr) != 1e-3:
-                continue
             sel = [r for r in all_runs if (int(r["per_width"]), r["rho_ratio"], r["mu_ratio"])
                    == (n, rr, mr)]
+            if ref is not None and len(sel) == len(ref[0]) and all(
+                    float(r["width_star"]) == w for r, w in zip(sel, ref[1])):
+                continue
             t = [float(r["t_star"]) for r in sel]
             for ax, k in ((ax_w, "width_star"), (ax_h, "height_star")):
-                ax.plot(t, [float(r[k]) for r in sel], color="0.6", lw=0.8,
-                        ls=(0, (1, 1)) if n < max(k_[0] for k_ in keys) else "-")
+                ax.plot(t, [float(r[k]) for r in sel], color="0.55", lw=0.8, ls=(0, (1, 1)))
     if ref is not None:
         for ax, y in ((ax_w, ref[1]), (ax_h, ref[2])):
             ax.plot(ref[0], y, color="k", lw=2, label=f"{name} (finest)")
@@ -128,15 +129,23 @@ for row, (fluid, title) in enumerate(FLUIDS.items()):
     if fluid == "oldroyd_b":
         for ax in (ax_w, ax_h):
             ax.axvline(3.5, color="0.5", ls=":", lw=1)
-        ax_w.text(3.5, 1.05, "King & Lind: W* minimum", rotation=90, fontsize=7, va="bottom",
+        ax_w.text(3.5, 2.0, "King & Lind: W* minimum", rotation=90, fontsize=7, va="top",
                   ha="right")
     ax_w.set(xlabel="t* = t U / W", ylabel="W* = width / W", title=f"{title}: width")
     ax_h.set(xlabel="t* = t U / W", ylabel="H* = height / W", title=f"{title}: height")
     ax_w.legend(fontsize=6.5, ncol=2, loc="lower right")
-fig.text(0.5, 0.005, "grey: the reference at its coarser meshes (dotted); colour: the SPH schemes "
-         "(dotted 20, dashed 40, solid 80 per width)", ha="center", fontsize=7)
+line_names = {":": "dotted", "--": "dashed", "-": "solid"}
+fig.text(0.5, 0.005, "black: the reference on its finest mesh; grey dotted: its other meshes; "
+         "colour: the SPH schemes (" + ", ".join(f"{line_names[styles[n]]} {n}"
+                                                 for n in resolutions)
+         + " particles per W)", ha="center", fontsize=7)
 fig.tight_layout(rect=(0, 0.02, 1, 1))
 fig.savefig(case.out / "king_lind_drop.png", dpi=110)
+if not case.short:
+    sys.path.insert(0, str(REF))
+    import plot_reference  # noqa: E402
+
+    plot_reference.draw(case.out / "reference.png" if case.out != case.dir else None)
 case.finish("t* = t U / W with W = 2 cm, U = 1 m/s. The independent solver's setup, its own "
             "convergence and the gas ratios: `independent_solver/README.md`.\n\n"
             + "\n".join(table))

@@ -33,7 +33,9 @@ def runs(files):
     return sorted(out.items())
 
 
-def draw(out=HERE / "reference.png"):
+def draw(out=None):
+    """reference.png (into this directory unless `out` names another file)."""
+    out = out or HERE / "reference.png"
     plt = common.figure()
     fig, axes = plt.subplots(2, 2, figsize=(11, 7.4))
     for k, (title, solver, files) in enumerate(PANELS):

@@ -49,6 +49,15 @@ def measure(path):
     return 2.0 * (right - AXIS), top - PLATE, volume / (np.pi / 4.0) - 1.0
 
 
+def collect(work):
+    """Rows (t*, W*, H*, volume change) of the dumps in a run directory, in time order."""
+    rows = []
+    for f in Path(work).glob("sim-*.txt"):
+        t = float(re.search(r"sim-([0-9.]+)\.txt", f.name).group(1))
+        rows.append((t, *measure(f)))
+    return sorted(rows)
+
+
 def run(level, rho_ratio, mu_ratio, end=8.0):
     """Runs one case in a temporary directory; returns rows (t*, W*, H*, volume change) and the
     CPU seconds."""
@@ -63,11 +72,7 @@ def run(level, rho_ratio, mu_ratio, end=8.0):
     cpu = resource.getrusage(resource.RUSAGE_CHILDREN).ru_utime - before
     if r.returncode != 0:
         sys.exit(f"gerris2D failed in {work}:\n{r.stderr[-2000:]}")
-    rows = []
-    for f in work.glob("sim-*.txt"):
-        t = float(re.search(r"sim-([0-9.]+)\.txt", f.name).group(1))
-        rows.append((t, *measure(f)))
-    rows.sort()
+    rows = collect(work)
     shutil.rmtree(work)
     return rows, cpu
 
@@ -100,8 +105,27 @@ def main():
     p.add_argument("--ratio", type=float, default=1e-3, help="gas density and viscosity ratio")
     p.add_argument("--only", choices=["convergence", "ratios", "none"],
                    help="none: only rewrite newtonian.csv from newtonian_runs.csv")
+    p.add_argument("--collect", metavar="DIR",
+                   help="add the dumps of a run stopped early (its directory, with --level) to "
+                        "newtonian_runs.csv as far as it got; newtonian.csv keeps the finest "
+                        "run that reached t* = 8")
     a = p.parse_args()
-    if a.level is not None:
+    if a.collect:
+        rows = collect(a.collect)
+        path = HERE / "newtonian_runs.csv"
+        done = load(path)
+        done[(a.level, *BASE)] = [dict(level=a.level, per_width=2**a.level // 4,
+                                       rho_ratio=BASE[0], mu_ratio=BASE[1], t_star=f"{t:.2f}",
+                                       width_star=f"{w:.5f}", height_star=f"{h:.5f}",
+                                       volume_change=f"{v:.2e}") for t, w, h, v in rows]
+        with open(path, "w", newline="") as f:
+            w = csv.DictWriter(f, HEADER, lineterminator="\n")
+            w.writeheader()
+            for key in sorted(done):
+                w.writerows(done[key])
+        print(f"level {a.level}: {len(rows)} dumps to t* = {rows[-1][0]:.2f}")
+        a.only = "none"
+    elif a.level is not None:
         rows, cpu = run(a.level, a.ratio, a.ratio)
         print("t_star,width_star,height_star,volume_change")
         for r in rows:
@@ -134,7 +158,7 @@ def main():
                 for key in sorted(done):
                     w.writerows(done[key])
     done = load(HERE / "newtonian_runs.csv")
-    base = [key for key in done if key[1:] == BASE]
+    base = [key for key in done if key[1:] == BASE and float(done[key][-1]["t_star"]) >= 8.0]
     if base:
         write(HERE / "newtonian.csv",
               [(r["t_star"], r["width_star"], r["height_star"]) for r in done[max(base)]],
