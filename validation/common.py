@@ -10,9 +10,11 @@ README's table "Thresholds" for that mode.
 
 import argparse
 import csv
+import hashlib
 import io
 import os
 import re
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -79,10 +81,21 @@ class Case:
             cmd += ["--t-end", repr(t_end)]
         if interval is not None:
             cmd += ["--output-interval", repr(interval)]
+        # Every run's time series is kept under target/validation/runs/<case>/, named by the
+        # label and a hash of the scene and options; VALIDATION_REUSE=1 reads it instead of
+        # running again (to redraw against a new reference: the binary is not part of the key).
+        key = hashlib.sha1((text + repr(cmd[5:])).encode()).hexdigest()[:12]
+        kept = ROOT / "target" / "validation" / "runs" / self.name / f"{label}-{key}"
+        if os.environ.get("VALIDATION_REUSE") == "1" and (kept / "timeseries.csv").exists():
+            return (read_series(kept / "timeseries.csv"),
+                    (kept / "stdout.txt").read_text())
         r = subprocess.run(cmd, capture_output=True, text=True)
         if r.returncode != 0:
             sys.exit(f"{self.name}/{label}: viscosph run failed ({r.returncode}):\n"
                      f"{r.stdout}{r.stderr}")
+        kept.mkdir(parents=True, exist_ok=True)
+        shutil.copy(run_dir / "timeseries.csv", kept / "timeseries.csv")
+        (kept / "stdout.txt").write_text(r.stdout)
         return read_series(run_dir / "timeseries.csv"), r.stdout
 
     def exact(self, *args):

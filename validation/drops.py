@@ -7,17 +7,14 @@ def run_drops(case, runs, diameter, speed, marks, title, filename, names=("D", "
     """runs: [(label, scene file, overrides)]; marks: [(t*, text)] the paper states; names: the
     paper's symbols of the diameter and the speed.
     Measures per run the first maximum of W* after impact and the minimum after it, the largest
-    retraction of W* below its running maximum and the largest |volume_error|; draws W* and H*."""
-    plt = common.figure()
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 3.8))
+    retraction of W* below its running maximum and the largest |volume_error|, and keeps the
+    series t*, W*, H* (keys t, w, h); draws W* and H* into `filename` unless it is None."""
     found = {}
     for label, scene, overrides in runs:
         s, _ = case.run(scene, label, overrides)
         t = [x * speed / diameter for x in s["time"]]
         w = [x / diameter for x in s["drop_width"]]
         h = [x / diameter for x in s["drop_height"]]
-        ax1.plot(t, w, label=label)
-        ax2.plot(t, h, label=label)
         # After impact (the width first grows past 1.05 D) the first maximum and the minimum
         # following it.
         t_impact = next((ti for ti, wi in zip(t, w) if wi > 1.05), t[-1])
@@ -31,7 +28,14 @@ def run_drops(case, runs, diameter, speed, marks, title, filename, names=("D", "
             retraction = max(retraction, running - wi)
         volume = max(abs(v) for v in s["volume_error"])
         found[label] = dict(t_max=t_max, t_min=t_min, retraction=retraction, volume=volume,
-                            w_end=w[-1])
+                            w_end=w[-1], t=t, w=w, h=h)
+    if filename is None:
+        return found
+    plt = common.figure()
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 3.8))
+    for label, r in found.items():
+        ax1.plot(r["t"], r["w"], label=label)
+        ax2.plot(r["t"], r["h"], label=label)
     for tm, text in marks:
         for ax in (ax1, ax2):
             ax.axvline(tm, color="0.5", ls=":", lw=1)
@@ -47,10 +51,11 @@ def run_drops(case, runs, diameter, speed, marks, title, filename, names=("D", "
 
 def newtonian_and_oldroyd_b(case, marks, title, filename, names, texts, timing):
     """A case of a Newtonian and an Oldroyd-B drop (newtonian.toml, oldroyd_b.toml) at 20 per
-    diameter (short) or 20 and 40 (full): runs both, draws them, and measures per resolution
-    what `timing(n, oldroyd_b)` adds, the retraction of either drop and the volume kept.
-    texts: what the paper's text says of the Newtonian spreading and of the volume ("" if
-    nothing)."""
+    diameter (short) or 20 and 40 (full): runs both, draws them (unless filename is None), and
+    measures per resolution what `timing(n, oldroyd_b)` adds, the retraction of either drop and
+    the volume kept. texts: what the paper's text says of the Newtonian spreading and of the
+    volume ("" if nothing). Returns run_drops' measurements and series, by label
+    ("newtonian 20", "oldroyd_b 40", ...)."""
     d = names[0]
     resolutions = [20] if case.short else [20, 40]
     runs = []
@@ -70,3 +75,4 @@ def newtonian_and_oldroyd_b(case, marks, title, filename, names, texts, timing):
         for label, r in (("newtonian", nw), ("oldroyd_b", ob)):
             case.measured(f"{label}_{n}_volume", f"{label}, {n}/{d}: largest "
                           f"abs(volume_error){volume_text}", r["volume"], "{:.4f}")
+    return found
