@@ -80,13 +80,14 @@
 //!     projection's steady state slips along the wall by `dt grad_t p / rho`: u* is no slip,
 //!     `u^{n+1} = u* - dt grad p / rho` is not, and a cylinder has a tangential pressure
 //!     gradient at its wall (a fully developed channel has none). At 16 across K went from 81.5
-//!     to 86.2 when the step was divided by four; with the increment it is 91.0 at the full step.
+//!     to 86.2 when the step was divided by four; with the increment it is 92.04 at the full
+//!     step.
 //!
 //!   With the ring lattice round the cylinder (`scene::cylinder_array`) and no hydrostatic
-//!   mirror offset in a closed cell (`walls`): K = 80.7, 91.0, 92.74, 92.91 at 8, 16, 24, 32
-//!   particles across the diameter (-13 %, -2.0 %, -0.10 %, +0.08 %), against 23.7 and 63.6 at
-//!   8 and 16 before (24 across was neither steady nor symmetric). Straight walls alone (the
-//!   channel, the drops) keep the positive form and the plain projection bit for bit.
+//!   mirror offset in a closed cell (`walls`): K = 80.55, 92.04, 92.13, 92.80 at 8, 16, 24, 32
+//!   particles across the diameter (t = 0.2 s; -13 %, -0.85 %, -0.75 %, -0.03 %), against 23.7
+//!   and 63.6 at 8 and 16 before (24 across was neither steady nor symmetric). Straight walls
+//!   alone (the channel, the drops) keep the positive form and the plain projection bit for bit.
 //! * A pressure or viscous solve that does not converge stops the run with the solver's cause.
 //! * **Inlet** (the jet's nozzle, [`crate::state::Inflow::holds`]): a buffer of particles held at
 //!   the inflow velocity, in the spirit of the moving ghost particles King & Lind cite for their
