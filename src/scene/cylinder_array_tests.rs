@@ -291,8 +291,9 @@ fn mirrors_on_the_ring_lattice_hold_the_couette_field() {
 /// Newtonian drag under ISPH converges to the finite-element value (King & Lind's cell,
 /// Eulerian frame, steady by t = 0.1 s: the flow rate settles within 1e-4 by t = 0.06 s at
 /// 16 across): K = F / (eta0 ⟨u⟩) within 15 % at 8 across (measured 80.19, -13.6 %) and
-/// within 2 % at 16 across (measured 92.00, -0.9 %) of 92.83; before the ring lattice, the
-/// zero mirror offsets and the incremental pressure correction: 23.7 and 63.6.
+/// within 2 % at 16 across (measured 92.00, -0.9 %) of 92.83; without the ring lattice, the
+/// difference form, the zero mirror offsets and the incremental pressure correction: 23.7 and
+/// 63.6.
 #[test]
 fn isph_drag_approaches_the_finite_element_value() {
     for (n, tol) in [(8, 0.15), (16, 0.02)] {
@@ -347,8 +348,9 @@ fn isph_creeping_flow_is_fore_aft_symmetric() {
 }
 
 /// ISPH in the Lagrangian frame (the default) stays finite round the cylinder and its drag
-/// approaches the finite-element value (8 across, t = 0.5 s: measured K = 82.16), where it blew up at t = 0.35 s before the ring lattice, the zero mirror
-/// offsets and the incremental pressure correction.
+/// approaches the finite-element value (8 across, t = 0.5 s: measured K = 82.16); without the
+/// ring lattice, the difference form, the zero mirror offsets and the incremental pressure
+/// correction it blew up at t = 0.35 s.
 #[test]
 fn isph_lagrangian_cell_stays_finite() {
     let mut cfg = cell("isph", 8);

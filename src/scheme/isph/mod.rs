@@ -85,8 +85,8 @@
 //!
 //!   With the ring lattice round the cylinder (`scene::cylinder_array`) and no hydrostatic
 //!   mirror offset in a closed cell (`walls`): K = 80.55, 92.04, 92.13, 92.80 at 8, 16, 24, 32
-//!   particles across the diameter (t = 0.2 s; -13 %, -0.85 %, -0.75 %, -0.03 %), against 23.7
-//!   and 63.6 at 8 and 16 before (24 across was neither steady nor symmetric). Straight walls
+//!   particles across the diameter (t = 0.2 s; -13 %, -0.85 %, -0.75 %, -0.03 %); without the
+//!   four, 23.7 and 63.6 at 8 and 16 (24 across neither steady nor symmetric). Straight walls
 //!   alone (the channel, the drops) keep the positive form and the plain projection bit for bit.
 //! * A pressure or viscous solve that does not converge stops the run with the solver's cause.
 //! * **Inlet** (the jet's nozzle, [`crate::state::Inflow::holds`]): a buffer of particles held at
