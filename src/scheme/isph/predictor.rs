@@ -6,13 +6,16 @@
 //! the part of the solvent (and EVSS) viscosity by Morris' Laplacian (21) that is explicit: all
 //! of it under `isph_viscous_step = explicit` (the paper's (24)), `1 - theta` of it under the
 //! implicit step ([`super::viscous`]), which then solves for the rest. The virtual particles'
-//! share of each pair force is the walls' (`Books::wall_on_fluid`).
+//! share of each pair force is the walls' (`Books::wall_on_fluid`). In a closed cell with a
+//! curved wall also `-grad p^n / rho` (the incremental pressure correction: module
+//! documentation of `isph`, "Curved walls").
 //!
 //! The solvent's free-surface traction ([`super::free_surface`]) is explicit here under the
 //! explicit viscous step and implicit in the viscous solve otherwise. The inlet's held particles
 //! keep their velocity; the momentum the step would have given them is the inlet's.
 
 use super::free_surface::SURFACE_TRACTION_TRANSPOSED;
+use super::projection::extend_pressure;
 use super::{Books, Context, Fields, Isph, MIN_TASK};
 use crate::config::ViscousStep;
 use crate::rheology::Rheology;
@@ -83,14 +86,7 @@ impl<R: Rheology> Isph<R> {
                         let c = pairs.morris[off + kk] * 0.5 * (mu[i] + mu[pj]) / rho * w_old;
                         a += (u_visc[i] - u_visc[j]) * c;
                     }
-                    if j < n {
-                        f += a;
-                    } else {
-                        fw += a;
-                        if walls > 0 {
-                            by_wall[ctx.virt.wall_of(j - n)] += a;
-                        }
-                    }
+                    ctx.add_pair(j, a, &mut f, &mut fw, &mut by_wall);
                 }
                 // Closed channel: the difference form's fluid pairs do not cancel; what they
                 // leave is the force the walls exert through the stress (no other boundary).
@@ -120,6 +116,20 @@ impl<R: Rheology> Isph<R> {
                 *b += w * mass;
             }
             rhs.push(fl.v[i] + (remap + a + g_pred) * dt);
+        }
+        // The incremental pressure correction: -grad p^n / rho in u* (module documentation of
+        // `isph`, "Curved walls"), booked as the projection's pressure force.
+        if self.incremental(ctx) {
+            let p_n = self.previous_pressure(st, ctx);
+            let p_all = extend_pressure(ctx, &p_n, &self.pressure_offsets(ctx));
+            let grad = self.pressure_accelerations(ctx, &p_all, walls);
+            for (r, (a, aw, by_wall)) in rhs.iter_mut().zip(grad) {
+                books.wall_on_fluid += aw * mass;
+                for (b, w) in books.per_wall.iter_mut().zip(by_wall) {
+                    *b += w * mass;
+                }
+                *r += a * dt;
+            }
         }
         let held = &ctx.held;
         if explicit && self.free_surface {

@@ -161,7 +161,10 @@ impl<R: Rheology> Isph<R> {
             &rows.robin,
             &b,
         );
-        let mut pres = if st.pressure.len() == n {
+        let mut pres = if self.incremental(ctx) {
+            // The increment p^{n+1} - p^n, from zero.
+            vec![0.0; n]
+        } else if st.pressure.len() == n {
             st.pressure.clone()
         } else if st.inflow.is_some() && st.pressure.len() < n {
             // Particles entered at the end of the list: the others keep their warm start.

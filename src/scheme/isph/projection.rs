@@ -1,6 +1,8 @@
 //! Step 6 of King & Lind 2021's ISPH, the projection (26): `u^{n+1} = u* - dt grad p / rho +
 //! dt g`, the pressure gradient by the positive form `sum_j (p_i + p_j) grad W_ij V_j` over the
-//! fluid and the virtual particles (momentum-conserving pairs: module documentation of `isph`);
+//! fluid and the virtual particles (momentum-conserving pairs: module documentation of `isph`;
+//! in a closed cell with a curved wall the corrected difference form of the increment
+//! `p^{n+1} - p^n`, ibid., "Curved walls");
 //! with the normal-stress surface condition the positive form of `p - p_s`
 //! ([`super::free_surface`], "Free-surface pressure").
 //!
@@ -12,6 +14,7 @@ use super::pressure::Pressure;
 use super::{Books, Context, Isph, MIN_TASK};
 use crate::particles::Fluid;
 use crate::rheology::Rheology;
+use crate::state::State;
 use crate::Vec2;
 use rayon::prelude::*;
 
@@ -35,39 +38,15 @@ impl<R: Rheology> Isph<R> {
         } else {
             Vec2::zeros()
         };
-        let p_all: Vec<f64> = pres
-            .iter()
-            .copied()
-            .chain(
-                ctx.virt
-                    .parent
-                    .iter()
-                    .zip(&pressure.offsets)
-                    .map(|(&i, o)| pres[i as usize] + o),
-            )
-            .collect();
+        let p_all = extend_pressure(ctx, pres, &pressure.offsets);
         let p_ghost = self.ghost_surface_pressure(ctx, &pressure.p_fs);
         let walls = books.per_wall.len();
-        let proj: Vec<(Vec2, Vec2, Vec2, Vec<Vec2>)> = (0..n)
+        let grad = self.pressure_accelerations(ctx, &p_all, walls);
+        let proj: Vec<(Vec2, Vec2, Vec2, Vec<Vec2>)> = grad
             .into_par_iter()
             .with_min_len(MIN_TASK)
-            .map(|i| {
-                let off = nl.offset(i);
-                let (mut f, mut fw) = (Vec2::zeros(), Vec2::zeros());
-                // The virtual pairs' share wall by wall, where the step splits it.
-                let mut by_wall = vec![Vec2::zeros(); walls];
-                for (kk, &j) in nl.of(i).iter().enumerate() {
-                    let j = j as usize;
-                    let a = pairs.grad[off + kk] * ((p_all[i] + p_all[j]) * (-vol / rho));
-                    if j < n {
-                        f += a;
-                    } else {
-                        fw += a;
-                        if walls > 0 {
-                            by_wall[ctx.virt.wall_of(j - n)] += a;
-                        }
-                    }
-                }
+            .enumerate()
+            .map(|(i, (a, fw, by_wall))| {
                 // The positive form of p - p_s: the pressure beyond the surface continues as
                 // 2 p_s - p_i, not -p_i (`free_surface`, "Free-surface pressure").
                 let surface = match p_ghost.get(i) {
@@ -76,7 +55,7 @@ impl<R: Rheology> Isph<R> {
                     }
                     _ => Vec2::zeros(),
                 };
-                (f + fw + surface, fw, surface, by_wall)
+                (a + surface, fw, surface, by_wall)
             })
             .collect();
         // The surface term is not a pair force and its sum does not cancel; a free surface
@@ -102,4 +81,90 @@ impl<R: Rheology> Isph<R> {
         }
         u_new
     }
+
+    /// Per fluid particle, `-grad p / rho` for the pressures `p_all` of the fluid and the
+    /// virtual particles, with the virtual particles' share and that share wall by wall (`walls`
+    /// entries where the step splits the walls' force): the positive form
+    /// `-sum_j (p_i + p_j) grad W_ij V_j / rho` (momentum-conserving pairs), or in a closed cell
+    /// with a curved wall the corrected difference form `-L_i sum_j (p_j - p_i) grad W_ij V_j /
+    /// rho`, its departure from the positive form booked as the first curved wall's force
+    /// (module documentation, "Curved walls").
+    pub(super) fn pressure_accelerations(
+        &self,
+        ctx: &Context,
+        p_all: &[f64],
+        walls: usize,
+    ) -> Vec<(Vec2, Vec2, Vec<Vec2>)> {
+        let (n, vol, rho) = (ctx.n, ctx.vol, self.rho);
+        let (nl, pairs) = (&ctx.nl, &self.pairs);
+        let curved = self.curved_wall(ctx);
+        (0..n)
+            .into_par_iter()
+            .with_min_len(MIN_TASK)
+            .map(|i| {
+                let off = nl.offset(i);
+                let (mut f, mut fw) = (Vec2::zeros(), Vec2::zeros());
+                // The virtual pairs' share wall by wall, where the step splits it.
+                let mut by_wall = vec![Vec2::zeros(); walls];
+                for (kk, &j) in nl.of(i).iter().enumerate() {
+                    let j = j as usize;
+                    let a = pairs.grad[off + kk] * ((p_all[i] + p_all[j]) * (-vol / rho));
+                    ctx.add_pair(j, a, &mut f, &mut fw, &mut by_wall);
+                }
+                if let Some(w) = curved {
+                    let mut d = Vec2::zeros();
+                    for (kk, &j) in nl.of(i).iter().enumerate() {
+                        d += pairs.grad[off + kk] * (p_all[j as usize] - p_all[i]);
+                    }
+                    let corr = ctx.l[i] * d * (-vol / rho) - (f + fw);
+                    fw += corr;
+                    if walls > 0 {
+                        by_wall[w] += corr;
+                    }
+                }
+                (f + fw, fw, by_wall)
+            })
+            .collect()
+    }
+
+    /// Whether the step is an incremental pressure correction (a closed cell with a curved
+    /// wall, module documentation, "Curved walls"): u* carries `-grad p^n / rho`, the PPE
+    /// solves for the increment `p^{n+1} - p^n`.
+    pub(super) fn incremental(&self, ctx: &Context) -> bool {
+        self.curved_wall(ctx).is_some()
+    }
+
+    /// The pressure p^n of the state `st` (zeros before the first solve).
+    pub(super) fn previous_pressure(&self, st: &State, ctx: &Context) -> Vec<f64> {
+        if st.pressure.len() == ctx.n {
+            st.pressure.clone()
+        } else {
+            vec![0.0; ctx.n]
+        }
+    }
+
+    /// The first curved wall of a closed cell (no free surface), whose mirrors make the
+    /// corrected difference form of the pressure gradient and the incremental pressure
+    /// correction necessary (module documentation, "Curved walls"); None otherwise.
+    pub(super) fn curved_wall(&self, ctx: &Context) -> Option<usize> {
+        if self.free_surface {
+            None
+        } else {
+            ctx.virt.straight.iter().position(|s| !s)
+        }
+    }
+}
+
+/// The fluid pressures `p` extended over the virtual particles (their parents' plus `offsets`).
+pub(super) fn extend_pressure(ctx: &Context, p: &[f64], offsets: &[f64]) -> Vec<f64> {
+    p.iter()
+        .copied()
+        .chain(
+            ctx.virt
+                .parent
+                .iter()
+                .zip(offsets)
+                .map(|(&i, o)| p[i as usize] + o),
+        )
+        .collect()
 }

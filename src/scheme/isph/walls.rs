@@ -54,6 +54,8 @@ pub(super) struct Virtual {
     /// on the particles dx / 2 from the wall, 0.06 g with the ratio (test
     /// `isph_mirrors_hold_a_circular_tank_at_rest`).
     pub volume: Vec<f64>,
+    /// Whether each wall (in the state's order) is straight.
+    pub straight: Vec<bool>,
     /// Each wall's virtual particles as a range of the above (walls in the state's order).
     pub ranges: Vec<Range<usize>>,
 }
@@ -92,6 +94,7 @@ impl Virtual {
                     .map(|&i| plate.reflection_jacobian(&xs[i as usize])),
             );
             v.ranges.push(start..v.parent.len());
+            v.straight.push(plate.is_straight());
             wall.wall_velocities(plate, &mut v.u_wall);
         }
         Ok(v)
@@ -233,9 +236,20 @@ impl<R: Rheology> Isph<R> {
     }
 
     /// The hydrostatic offsets `rho g . (r_m - r_i)` of the virtual particles' pressures (King's
-    /// newer code): a fluid at rest holds its hydrostatic pressure across the wall.
+    /// newer code): a fluid at rest holds its hydrostatic pressure across the wall. Zeros in a
+    /// closed cell, whose body force is in the predictor (`predictor`), not in the corrector:
+    /// the pressure there has no hydrostatic part to continue, and the offsets would impose
+    /// `dp/dn = rho g . n` on the wall. Across the channel's walls (g along the wall) they are
+    /// exactly zero anyway; across a cylinder they are not: measured on the cylinder array
+    /// (16 across, incremental pressure correction), p accumulated the offset every step and
+    /// the flow ran backwards through the cylinder.
     pub(super) fn pressure_offsets(&self, ctx: &Context) -> Vec<f64> {
-        let (rho, g, dom, n) = (self.rho, self.p.gravity, self.p.domain, ctx.n);
+        let g = if self.free_surface {
+            self.p.gravity
+        } else {
+            Vec2::zeros()
+        };
+        let (rho, dom, n) = (self.rho, self.p.domain, ctx.n);
         ctx.virt
             .parent
             .iter()
