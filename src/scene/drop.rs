@@ -1,5 +1,8 @@
 //! The drop impact of Fang 2006 section 4: a disc cut from a Cartesian lattice, moving
-//! vertically down at the impact velocity towards a rigid plate.
+//! vertically down at the impact velocity towards a rigid plate. Under `dimension = 3` the drop
+//! is a sphere cut from the cubic lattice and the plate a plane tilted about the y axis
+//! ([`build_3d`], [`plate_3d`]); its outputs are the shared ones (the load bins along the plate,
+//! per unit depth, hold 0 there).
 
 use super::{Outputs, Scene, SceneConfig, SceneType};
 use crate::boundary::plate::{Motion, Plate};
