@@ -23,6 +23,13 @@
 //! | `particle_count` | number of fluid particles |
 //! | `void_fraction` | area of holes enclosed by fluid over the fluid's area, on cells of 2 dx (see [`crate::health`]) |
 //! | `plate_displacement` | distance the plate has moved along -n (the integral of the `plate_velocity` input); 0 without a plate |
+//! | `drop_width_transverse` | 3D: (max b - min b) + dx, b the coordinate along the plate's horizontal n x t (across the downhill direction); 0 in 2D |
+//! | `wall_force_normal_total`, `wall_force_tangential_total` | the wall force in newtons: in 3D the force on the wall itself, in 2D the per-depth force times the parameter `depth` |
+//! | `kinetic_energy_total` | the kinetic energy in joules: in 3D the fluid's, in 2D per depth times `depth` |
+//!
+//! Every unit holds in both dimensions: the per-depth outputs (`wall_force_normal`,
+//! `wall_force_tangential`, `kinetic_energy` [J/m]) hold 0 in 3D, where their `_total`
+//! counterparts carry the values, and `drop_width_transverse` holds 0 in 2D.
 //!
 //! Outputs that do not apply to a scene hold 0 (`min_conformation_det` 1), never NaN: the drop
 //! fills these; the channel only the health figures (and its own three); the elliptical drop
@@ -38,9 +45,10 @@
 //! equals the change of the drop's momentum minus the gravity impulse, to round-off.
 
 use crate::boundary::plate::Plate;
+use crate::dim::Vector;
 use crate::eos::Eos;
 use crate::kernel::Kernel;
-use crate::neighbors::{CellGrid, Domain, NeighborList};
+use crate::neighbors::{Domain, Grid, NeighborList};
 use crate::particles::Fluid;
 use crate::state::State;
 use crate::Vec2;
@@ -121,20 +129,24 @@ macro_rules! outputs {
 outputs! {
     /// The outputs every scene has (see the module documentation for their definitions).
     pub struct SharedOutputs {
-        drop_width: vr 101, unit "m"; "Extent of the fluid along the plate",
+        drop_width: vr 101, unit "m"; "Extent of the fluid along the plate (downhill)",
         drop_height: vr 102, unit "m"; "Largest distance of fluid from the plate",
-        wall_force_normal: vr 103, unit "N/m"; "Force of the fluid on the plate per unit depth, normal component, positive into the plate",
-        wall_force_tangential: vr 104, unit "N/m"; "Force of the fluid on the plate per unit depth, tangential component, positive downhill",
+        wall_force_normal: vr 103, unit "N/m"; "2D: force of the fluid on the plate per unit depth, normal component, positive into the plate; 0 in 3D (see wall_force_normal_total)",
+        wall_force_tangential: vr 104, unit "N/m"; "2D: force of the fluid on the plate per unit depth, tangential component, positive downhill; 0 in 3D (see wall_force_tangential_total)",
         spread_front: vr 105, unit "m"; "Furthest reach of the fluid downhill of the impact point, along the plate",
         spread_back: vr 106, unit "m"; "Furthest reach of the fluid uphill of the impact point, along the plate",
-        kinetic_energy: vr 107, unit "J/m"; "Kinetic energy of the fluid per unit depth",
+        kinetic_energy: vr 107, unit "J/m"; "2D: kinetic energy of the fluid per unit depth; 0 in 3D (see kinetic_energy_total)",
         volume_error: vr 108, unit "1"; "Relative change of the fluid volume sum(m/rho)",
         max_conformation_trace: vr 109, unit "1"; "Largest trace of the conformation tensor (0 without one)",
         min_conformation_det: vr 110, unit "1"; "Smallest determinant of the conformation tensor (1 without one)",
         time_step: vr 111, unit "s"; "Last time step of the solver",
         particle_count: vr 112, unit ""; "Number of fluid particles",
-        void_fraction: vr 113, unit "1"; "Area of holes torn into the fluid over the fluid's area (tensile-instability fracture measure)",
+        void_fraction: vr 113, unit "1"; "2D: area of holes torn into the fluid over the fluid's area (tensile-instability fracture measure); 0 in 3D (not measured there)",
         plate_displacement: vr 117, unit "m"; "Distance the plate has moved along its normal, away from the fluid, driven by the plate_velocity input",
+        drop_width_transverse: vr 190, unit "m"; "3D: extent of the fluid across the plate (along the horizontal n x t, perpendicular to the downhill direction); 0 in 2D (no direction across the plane of the flow)",
+        wall_force_normal_total: vr 191, unit "N"; "Force of the fluid on the plate, normal component, positive into the plate: in 3D the force on the wall, in 2D wall_force_normal times the parameter depth",
+        wall_force_tangential_total: vr 192, unit "N"; "Force of the fluid on the plate, tangential component, positive downhill: in 3D the force on the wall, in 2D wall_force_tangential times the parameter depth",
+        kinetic_energy_total: vr 193, unit "J"; "Kinetic energy of the fluid: in 3D the fluid's, in 2D kinetic_energy times the parameter depth",
     }
 }
 
@@ -145,8 +157,13 @@ outputs! {
 
 impl SharedOutputs {
     /// Compute every shared output from a state. `dx` is the lattice spacing, `rho0` the
-    /// reference density.
-    pub fn compute(st: &State, dx: f64, rho0: f64) -> Self {
+    /// reference density. In 2D the `_total` outputs are left 0 (they need the depth:
+    /// [`SharedOutputs::complete_2d`]); in 3D the per-depth ones are 0 and the totals hold the
+    /// force and energy themselves.
+    pub fn compute<const N: usize>(st: &State<N>, dx: f64, rho0: f64) -> Self
+    where
+        nalgebra::Const<N>: nalgebra::DimMin<nalgebra::Const<N>, Output = nalgebra::Const<N>>,
+    {
         let fl = &st.fluid;
         let n = fl.len();
         let mut o = SharedOutputs {
@@ -165,17 +182,39 @@ impl SharedOutputs {
             f64::INFINITY,
             f64::NEG_INFINITY,
         );
+        let (mut b_lo, mut b_hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        // In 3D the direction across the plate: its horizontal n x t (y without a plate).
+        let across = (N == 3).then(|| match st.plate() {
+            Some(p) => {
+                let (n3, t3) = (
+                    nalgebra::Vector3::from_iterator(p.n.iter().copied()),
+                    nalgebra::Vector3::from_iterator(p.t.iter().copied()),
+                );
+                let b = n3.cross(&t3);
+                (p.origin, Vector::<N>::from_iterator(b.iter().copied()))
+            }
+            None => {
+                let mut b = Vector::<N>::zeros();
+                b[1] = 1.0;
+                (Vector::<N>::zeros(), b)
+            }
+        });
         let mut volume = 0.0;
         let mut ke = 0.0;
         for i in 0..n {
             let (s, d) = match st.plate() {
                 Some(p) => (p.s(&fl.x[i]), p.d(&fl.x[i])),
-                None => (fl.x[i].x, fl.x[i].y),
+                None => (fl.x[i][0], fl.x[i][N - 1]),
             };
             s_lo = s_lo.min(s);
             s_hi = s_hi.max(s);
             d_lo = d_lo.min(d);
             d_hi = d_hi.max(d);
+            if let Some((origin, b)) = &across {
+                let c = (fl.x[i] - origin).dot(b);
+                b_lo = b_lo.min(c);
+                b_hi = b_hi.max(c);
+            }
             volume += fl.mass / fl.rho[i];
             ke += 0.5 * fl.mass * fl.v[i].norm_squared();
         }
@@ -186,12 +225,22 @@ impl SharedOutputs {
         };
         o.spread_front = s_hi + 0.5 * dx;
         o.spread_back = -(s_lo - 0.5 * dx);
-        o.kinetic_energy = ke;
         o.volume_error = volume / (n as f64 * fl.mass / rho0) - 1.0;
+        let (mut normal, mut tangential) = (0.0, 0.0);
         if let Some(p) = st.plate() {
             o.plate_displacement = p.displacement;
-            o.wall_force_normal = -st.wall_force.dot(&p.n);
-            o.wall_force_tangential = st.wall_force.dot(&p.t);
+            normal = -st.wall_force.dot(&p.n);
+            tangential = st.wall_force.dot(&p.t);
+        }
+        if across.is_some() {
+            o.drop_width_transverse = b_hi - b_lo + dx;
+            o.wall_force_normal_total = normal;
+            o.wall_force_tangential_total = tangential;
+            o.kinetic_energy_total = ke;
+        } else {
+            o.wall_force_normal = normal;
+            o.wall_force_tangential = tangential;
+            o.kinetic_energy = ke;
         }
         if !fl.conf.is_empty() {
             o.max_conformation_trace = fl.conf.iter().map(|a| a.trace()).fold(f64::MIN, f64::max);
@@ -202,6 +251,14 @@ impl SharedOutputs {
                 .fold(f64::MAX, f64::min);
         }
         o
+    }
+
+    /// The 2D outputs in newtons and joules: the per-depth force and energy times `depth` \[m\]
+    /// (the length across the plane of the flow the run stands for).
+    pub fn complete_2d(&mut self, depth: f64) {
+        self.wall_force_normal_total = self.wall_force_normal * depth;
+        self.wall_force_tangential_total = self.wall_force_tangential * depth;
+        self.kinetic_energy_total = self.kinetic_energy * depth;
     }
 
     /// [`SharedOutputs::compute`], with the volume error measured geometrically
@@ -303,8 +360,8 @@ pub fn covered_area(x: &[Vec2], dx: f64, plate: Option<&Plate>) -> f64 {
 /// normalised so a uniform field is smooth everywhere, the free surface included), divided by
 /// `scale` \[Pa\]. It measures the particle-to-particle pressure noise that Ren 2015 Figs. 3 and 9
 /// show and that periodic density reinitialisation removes.
-pub fn pressure_roughness<K: Kernel>(
-    fl: &Fluid,
+pub fn pressure_roughness<K: Kernel<N>, const N: usize>(
+    fl: &Fluid<N>,
     eos: &Eos,
     kernel: &K,
     dom: &Domain,
@@ -315,7 +372,7 @@ pub fn pressure_roughness<K: Kernel>(
         return 0.0;
     }
     let radius = kernel.radius();
-    let grid = CellGrid::build(&fl.x, radius, dom);
+    let grid = Grid::<N>::build(&fl.x, radius, dom);
     let list = NeighborList::build(&grid, &fl.x, &fl.x, radius, dom);
     let pres: Vec<f64> = fl.rho.iter().map(|&r| eos.pressure(r)).collect();
     let dev2: Vec<f64> = (0..n)

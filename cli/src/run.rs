@@ -6,8 +6,9 @@ use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 use viscosph::budget::RunLength;
 use viscosph::scene::{time_text, Outputs, Predictions, TimePlot};
+use viscosph::simulation::Particles;
 use viscosph::simulation::{SimError, Simulation};
-use viscosph::{SceneConfig, Vec2};
+use viscosph::SceneConfig;
 
 /// Settings of one run.
 #[derive(Debug, Clone)]
@@ -33,7 +34,12 @@ pub use viscosph::budget::MAX_STEPS;
 pub fn is_run_output(name: &str) -> bool {
     matches!(
         name,
-        "timeseries.csv" | "walls.vtk" | "width_height.png" | "particles.png" | "scene.toml"
+        "timeseries.csv"
+            | "walls.vtk"
+            | "width_height.png"
+            | "particles.png"
+            | "particles_top.png"
+            | "scene.toml"
     ) || (name.starts_with("particles_") && name.ends_with(".vtk"))
 }
 
@@ -182,8 +188,8 @@ pub struct RunResult {
     /// What the scene says about the run (`Scene::summary`): e.g. the elliptical drop's
     /// semi-axis error, the jet's buckling.
     pub summary: Vec<String>,
-    /// The state at the end (the last good one after a breakdown).
-    pub state: viscosph::State,
+    /// The state at the end (the last good one after a breakdown) of a 2D run; None in 3D.
+    pub state: Option<viscosph::State>,
     /// Stopped by [`RunOptions::stop`] (a signal) before `t_end`, at this time.
     pub interrupted: Option<f64>,
 }
@@ -218,52 +224,74 @@ impl RunResult {
 }
 
 /// The scalar a particle is coloured by: tr(A) for elastic models, speed otherwise.
-pub fn colour_field(sim: &Simulation) -> (&'static str, Vec<f64>) {
-    let f = &sim.state().fluid;
-    if f.conf.is_empty() {
-        ("speed [m/s]", f.v.iter().map(|v| v.norm()).collect())
-    } else {
-        ("tr(A) [-]", f.conf.iter().map(|a| a.trace()).collect())
+pub fn colour_field(p: &Particles) -> (&'static str, Vec<f64>) {
+    match &p.trace {
+        Some(trace) => ("tr(A) [-]", trace.clone()),
+        None => (
+            "speed [m/s]",
+            p.v.iter()
+                .map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt())
+                .collect(),
+        ),
     }
 }
 
-fn snapshot(sim: &Simulation) -> plot::Snapshot {
-    let f = &sim.state().fluid;
+/// The views a snapshot shows: in 2D the plane of the flow; in 3D the side view (x, z) of the
+/// section within one particle spacing of the plane y = 0 through the drop's centre and the
+/// downhill line, and the top view (x, y) of every particle, the highest drawn last.
+fn snapshot(sim: &Simulation) -> Vec<plot::Snapshot> {
+    let p = sim.particles();
     let eff = sim.effective_config();
-    plot::Snapshot {
-        title: sim.scene().time_label(eff, sim.time()),
-        // Every straight wall surface (the drop's plate, both channel walls), from the state's
-        // walls; a curved wall shows through its virtual particles only.
-        plates: sim
-            .state()
-            .walls
-            .iter()
-            .filter_map(|w| w.plate())
-            .map(|w| {
-                let o = w.point(0.0, 0.0);
-                plot::PlateLine {
-                    point: (o.x, o.y),
-                    tangent: (w.t.x, w.t.y),
-                }
-            })
-            .collect(),
-        nozzle: sim.scene().inlet_mark(eff),
-        spacing: eff.dx(),
-        points: f.x.iter().map(|p| (p.x, p.y)).collect(),
-        values: colour_field(sim).1,
-        walls: sim
-            .wall_positions()
-            .iter()
-            .step_by(2)
-            .map(|p| (p.x, p.y))
-            .collect(),
-    }
+    let dx = eff.dx();
+    let values = colour_field(&p).1;
+    let title = sim.scene().time_label(eff, sim.time());
+    // (horizontal axis, vertical axis, name of each, which points: all or the slab |y| < dx).
+    let views: Vec<(usize, usize, (&str, &str), bool)> = if p.dimension == 3 {
+        vec![(0, 2, ("x", "z"), true), (0, 1, ("x", "y"), false)]
+    } else {
+        vec![(0, 1, ("x", "y"), false)]
+    };
+    views
+        .into_iter()
+        .map(|(a, b, axes, slab)| {
+            let keep = |q: &[f64; 3]| !slab || q[1].abs() < dx;
+            let mut order: Vec<usize> = (0..p.x.len()).filter(|&i| keep(&p.x[i])).collect();
+            if p.dimension == 3 && !slab {
+                order.sort_by(|&i, &j| p.x[i][2].total_cmp(&p.x[j][2]));
+            }
+            plot::Snapshot {
+                title: title.clone(),
+                // Every straight wall surface seen edge-on (the drop's plate, both channel
+                // walls); seen from above a plate is the grey field of its wall particles.
+                plates: p
+                    .plates
+                    .iter()
+                    .filter(|_| p.dimension == 2 || b == 2)
+                    .map(|(o, t, _)| plot::PlateLine {
+                        point: (o[a], o[b]),
+                        tangent: (t[a], t[b]),
+                    })
+                    .collect(),
+                nozzle: sim.scene().inlet_mark(eff),
+                spacing: dx,
+                points: order.iter().map(|&i| (p.x[i][a], p.x[i][b])).collect(),
+                values: order.iter().map(|&i| values[i]).collect(),
+                walls: p
+                    .walls
+                    .iter()
+                    .filter(|q| keep(q))
+                    .step_by(2)
+                    .map(|q| (q[a], q[b]))
+                    .collect(),
+                axes: (axes.0.to_string(), axes.1.to_string()),
+            }
+        })
+        .collect()
 }
 
 fn write_vtk(dir: &Path, k: usize, sim: &Simulation) -> Result<(), FileError> {
-    let f = &sim.state().fluid;
-    let p: Vec<f64> = f.rho.clone();
-    let (name, values) = colour_field(sim);
+    let p = sim.particles();
+    let (name, values) = colour_field(&p);
     let name = if name.starts_with("tr") {
         "trace_A"
     } else {
@@ -273,12 +301,12 @@ fn write_vtk(dir: &Path, k: usize, sim: &Simulation) -> Result<(), FileError> {
     at(
         vtk::write_particles(
             &path,
-            &f.x,
-            &f.v,
+            &p.x,
+            &p.v,
             &[
                 vtk::Field {
                     name: "density",
-                    values: &p,
+                    values: &p.rho,
                 },
                 vtk::Field {
                     name,
@@ -289,13 +317,20 @@ fn write_vtk(dir: &Path, k: usize, sim: &Simulation) -> Result<(), FileError> {
         "write",
         &path,
     )?;
-    let w = sim.wall_positions();
     let path = dir.join("walls.vtk");
     at(
-        vtk::write_particles(&path, &w, &vec![Vec2::zeros(); w.len()], &[]),
+        vtk::write_particles(&path, &p.walls, &vec![[0.0; 3]; p.walls.len()], &[]),
         "write",
         &path,
     )
+}
+
+/// Append each view of one snapshot to its own sequence (`shots[v]` is view v over time).
+fn push_views(shots: &mut Vec<Vec<plot::Snapshot>>, views: Vec<plot::Snapshot>) {
+    shots.resize_with(views.len(), Vec::new);
+    for (seq, view) in shots.iter_mut().zip(views) {
+        seq.push(view);
+    }
 }
 
 /// Advance to `t`; the simulation checks the stop flag (see `Simulation::set_stop_flag`) before
@@ -325,7 +360,8 @@ pub fn run(
     let snap_every = (n_out / opts.snapshots.max(1)).max(1);
     let start = std::time::Instant::now();
     let mut series = vec![(0.0, sim.outputs())];
-    let mut shots = vec![snapshot(&sim)];
+    let mut shots: Vec<Vec<plot::Snapshot>> = Vec::new();
+    push_views(&mut shots, snapshot(&sim));
     // One step first: the scheme's stable time step gives the run's length in steps, checked
     // before any file is touched. (Steps are never shortened to land on an output time, so this
     // does not change the trajectory.)
@@ -337,8 +373,11 @@ pub fn run(
     if first.is_ok() && !opts.force {
         let what = format!("t_end = {} s", opts.t_end);
         // At the scheme's stable step after the first step (`State::last_dt`).
-        let st = sim.state();
-        let length = RunLength::at_step(opts.t_end - st.time, st.last_dt, st.fluid.len());
+        let length = RunLength::at_step(
+            opts.t_end - sim.state_time(),
+            sim.last_dt(),
+            sim.particle_count(),
+        );
         if let Some(refusal) = length.too_long(&what) {
             return Err(format!(
                 "{refusal}. Check --t-end (the default is t* = 8, {} s), or pass --force to run \
@@ -392,7 +431,7 @@ pub fn run(
         let o = sim.outputs();
         series.push((sim.time(), o));
         if k % snap_every == 0 {
-            shots.push(snapshot(&sim));
+            push_views(&mut shots, snapshot(&sim));
             if let Some(d) = &opts.out_dir {
                 write_vtk(d, k / snap_every, &sim)?;
             }
@@ -409,44 +448,50 @@ pub fn run(
     if error.is_some() || interrupted.is_some() {
         // The last good state, where the cause can be looked at: one more panel of the
         // particle PNG and one more VTK snapshot.
-        let mut shot = snapshot(&sim);
-        // Short enough for one panel's width (a longer caption ran into the next panel).
-        shot.title = format!(
-            "t = {}, before {}",
-            time_text(sim.state().time),
-            if error.is_some() {
-                "breakdown"
-            } else {
-                "interrupt"
-            }
-        );
-        shots.push(shot);
+        let mut views = snapshot(&sim);
+        for shot in &mut views {
+            // Short enough for one panel's width (a longer caption ran into the next panel).
+            shot.title = format!(
+                "t = {}, before {}",
+                time_text(sim.state_time()),
+                if error.is_some() {
+                    "breakdown"
+                } else {
+                    "interrupt"
+                }
+            );
+        }
+        push_views(&mut shots, views);
         if let Some(d) = &opts.out_dir {
-            write_vtk(d, shots.len() - 1, &sim)?;
+            write_vtk(d, shots[0].len() - 1, &sim)?;
         }
     }
     if let Some(b) = bar {
         b.finish_and_clear();
     }
-    let summary = sim
-        .scene()
-        .summary(sim.effective_config(), sim.state(), &series, predictions);
+    // The scenes sum up a 2D run (a 3D one has its outputs).
+    let summary = match sim.state_3d() {
+        None => sim
+            .scene()
+            .summary(sim.effective_config(), sim.state(), &series, predictions),
+        Some(_) => Vec::new(),
+    };
     let result = RunResult {
         series,
         error,
         wall_seconds: start.elapsed().as_secs_f64(),
-        steps: sim.state().step,
-        particles: sim.state().fluid.len(),
-        wall_reflections: sim.state().wall_reflections,
+        steps: sim.steps(),
+        particles: sim.particle_count(),
+        wall_reflections: sim.wall_reflections(),
         summary,
-        state: sim.state().clone(),
+        state: sim.state_3d().is_none().then(|| sim.state().clone()),
         interrupted,
     };
     if let Some(d) = &opts.out_dir {
         let path = d.join("timeseries.csv");
         at(csv::write_timeseries(&path, &result.series), "write", &path)?;
         let path = d.join("width_height.png");
-        let t_last = sim.state().time;
+        let t_last = sim.state_time();
         let ended = match (&result.error, interrupted) {
             (Some(_), _) => Some(("breakdown", t_last)),
             (None, Some(t)) => Some(("interrupted", t)),
@@ -462,22 +507,38 @@ pub fn run(
             "write",
             &path,
         )?;
-        let (field, _) = colour_field(&sim);
-        let path = d.join("particles.png");
+        let (field, _) = colour_field(&sim.particles());
         let field_name = field.split(" [").next().unwrap_or(field);
-        at(
-            plot::particle_snapshots(
-                &path,
-                &sim.scene()
-                    .snapshot_title(sim.effective_config(), field_name),
-                &shots,
-                field,
-                sim.scene().snapshot_columns(shots.len()),
-                (1700, 1250),
+        let title = sim
+            .scene()
+            .snapshot_title(sim.effective_config(), field_name);
+        // particles.png: the plane of a 2D flow or the side view of a 3D one (a section
+        // through the centre); particles_top.png: a 3D run seen from above.
+        for (views, (name, what)) in shots.iter().zip([
+            (
+                "particles.png",
+                if sim.dimension() == 3 {
+                    ", side view of the section |y| < dx"
+                } else {
+                    ""
+                },
             ),
-            "write",
-            &path,
-        )?;
+            ("particles_top.png", ", seen from above"),
+        ]) {
+            let path = d.join(name);
+            at(
+                plot::particle_snapshots(
+                    &path,
+                    &format!("{title}{what}"),
+                    views,
+                    field,
+                    sim.scene().snapshot_columns(views.len()),
+                    (1700, 1250),
+                ),
+                "write",
+                &path,
+            )?;
+        }
         let path = d.join("scene.toml");
         at(
             std::fs::write(&path, scene_record(cfg, sim.effective_config())),

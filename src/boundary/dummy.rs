@@ -179,6 +179,9 @@ pub struct DummyWall<K: Kernel<N>, const N: usize = 2> {
     lateral: Lateral,
     /// The positions placed at the last [`Boundary::place`].
     x: Vec<Vector<N>>,
+    /// The wall's displacement along -n then: a plate that moved since carries its dummy
+    /// particles with it, and they interpolate the fluid where they are now.
+    placed_at: f64,
     /// Fluid neighbours of each dummy particle.
     list: NeighborList,
 }
@@ -197,6 +200,7 @@ where
             layers,
             lateral: Lateral::default(),
             x: Vec::new(),
+            placed_at: 0.0,
             list: NeighborList::default(),
         }
     }
@@ -211,10 +215,24 @@ where
         out
     }
 
-    /// Shepard sums over the fluid neighbours of dummy particle `k`: sum W, and `f(j, W)` for
-    /// every neighbour j with W > 0.
-    fn shepard(&self, fluid: &Fluid<N>, k: usize, mut f: impl FnMut(usize, f64, Vector<N>)) -> f64 {
-        let xw = self.x[k];
+    /// How far `wall`'s dummy particles have moved since they were placed: a plate's rigid
+    /// translation along -n (the neighbour lists, built with a skin, stay valid meanwhile).
+    fn moved(&self, wall: &Wall<N>) -> Vector<N> {
+        wall.plate().map_or(Vector::zeros(), |p| {
+            -p.n * (p.displacement - self.placed_at)
+        })
+    }
+
+    /// Shepard sums over the fluid neighbours of dummy particle `k`, moved by `shift` since it
+    /// was placed: sum W, and `f(j, W)` for every neighbour j with W > 0.
+    fn shepard(
+        &self,
+        fluid: &Fluid<N>,
+        k: usize,
+        shift: Vector<N>,
+        mut f: impl FnMut(usize, f64, Vector<N>),
+    ) -> f64 {
+        let xw = self.x[k] + shift;
         let r2max = self.kernel.radius().powi(2);
         let mut sw = 0.0;
         for &j in self.list.of(k) {
@@ -249,30 +267,32 @@ where
         }
         self.lateral = Lateral::covering(wall, fluid_x, 3.0 * radius, self.dx, &self.domain);
         self.x = self.layout(wall);
+        self.placed_at = wall.displacement();
         out.extend_from_slice(&self.x);
         self.list = NeighborList::build(fluid_grid, fluid_x, &self.x, radius, &self.domain);
     }
 
     fn fill_velocities(&self, wall: &Wall<N>, fluid: &Fluid<N>, out: &mut [Vector<N>]) {
-        let uw = wall.wall_velocity();
+        let (uw, shift) = (wall.wall_velocity(), self.moved(wall));
         for (k, o) in out.iter_mut().enumerate() {
             let mut su = Vector::zeros();
-            let sw = self.shepard(fluid, k, |j, w, _| su += fluid.v[j] * w);
+            let sw = self.shepard(fluid, k, shift, |j, w, _| su += fluid.v[j] * w);
             *o = if sw > 0.0 { 2.0 * uw - su / sw } else { uw };
         }
     }
 
     fn fill_stresses(
         &self,
-        _wall: &Wall<N>,
+        wall: &Wall<N>,
         fluid: &Fluid<N>,
         sigma: &[Tensor<N>],
         _tau_p: &[Tensor<N>],
         out: &mut [Tensor<N>],
     ) {
+        let shift = self.moved(wall);
         for (k, o) in out.iter_mut().enumerate() {
             let (mut ss, mut sr) = (Tensor::zeros(), Vector::zeros());
-            let sw = self.shepard(fluid, k, |j, w, rwf| {
+            let sw = self.shepard(fluid, k, shift, |j, w, rwf| {
                 ss += sigma[j] * w;
                 sr += rwf * (fluid.rho[j] * w);
             });

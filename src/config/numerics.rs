@@ -124,6 +124,8 @@ crate::params! {
     /// How the flow is computed: resolution, time step, the schemes' own knobs (each says which
     /// scheme reads it) and the thread pool.
     pub struct Numerics {
+        dimension: i64 = integer(2, 2, 3), vr 70, unit "";
+            "Space dimensions: 2 (a planar flow, forces per unit depth) or 3 (the drop as a sphere on a plane plate, forces in newtons; wcsph and pdri with dummy wall particles; the drop scene only)",
         particles_per_diameter: i64 = integer(20, 4, 4000), vr 19, unit "";
             "Resolution: lattice spacing dx = drop_diameter / particles_per_diameter",
         sound_speed: f64 = real(0.0, 0.0, 1.0e5), vr 20, unit "m/s";

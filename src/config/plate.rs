@@ -32,5 +32,7 @@ crate::params! {
             "How the inputs move the plate: velocity = at plate_velocity; position = to plate_position + plate_velocity h at the end of each communication step of length h (no drift under a Jacobi master)",
         plate_position: f64 = real(0.0, -1000.0, 1000.0), vr 66, unit "m", input;
             "Input, read when plate_coupling = position: where the plate is to be along its normal (its displacement away from the fluid since t = 0, as the output plate_displacement) at the communication point, extrapolated over the step with plate_velocity",
+        depth: f64 = real(0.0, 0.0, 1000.0), vr 71, unit "m";
+            "2D only: the length across the plane of the flow that the *_total outputs count (a 2D force per unit depth times depth); 0 = the scene's reference length (the drop: its diameter, a cylinder of fluid as long as it is wide). Not read in 3D, where forces are totals already",
     }
 }

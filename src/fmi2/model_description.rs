@@ -96,6 +96,8 @@ const UNITS: &[UnitDef] = &[
     unit("m2/s", 0, 2, -1),
     unit("Pa", 1, -1, -2),
     unit("kg/m", 1, -1, 0),
+    unit("N", 1, 1, -2),
+    unit("J", 1, 2, -2),
 ];
 
 /// Escape text for an XML attribute value.

@@ -180,9 +180,15 @@ impl SceneConfig {
     /// numerics', and what the scene says about its domain (body force, periodicity, size, free
     /// surface, which viscous operator `auto` means).
     pub fn scheme_params(&self) -> Params {
+        self.scheme_params_in::<2>()
+    }
+
+    /// [`SceneConfig::scheme_params`] in N dimensions: the scene's body force (x, y) acts
+    /// along (x, z) in 3D, the plane of the 2D flow.
+    pub fn scheme_params_in<const N: usize>(&self) -> Params<N> {
         use crate::config::ViscousOperator;
         let scene = self.scene_def();
-        let mut p = Params::new(
+        let mut p = Params::<N>::in_dimension(
             &self.fluid,
             &self.numerics,
             self.dx(),
@@ -190,7 +196,10 @@ impl SceneConfig {
         );
         p.domain_radius = scene.domain_radius(self);
         p.domain = scene.domain(self);
-        p.gravity = scene.body_force(self);
+        let body = scene.body_force(self);
+        p.gravity = crate::dim::Vector::<N>::zeros();
+        p.gravity[0] = body.x;
+        p.gravity[N - 1] = body.y;
         p.viscous_laplacian = match self.numerics.viscous_operator {
             ViscousOperator::Auto => scene.viscous_laplacian(),
             op => op == ViscousOperator::Laplacian,
@@ -202,6 +211,14 @@ impl SceneConfig {
 
     /// The shared outputs of a state of this (effective) configuration (see
     /// [`SharedOutputs::compute_for`]).
+    /// The outputs of a 2D state: the scene's ([`Scene::outputs`]) with the `_total` ones
+    /// counted over [`SceneConfig::depth`].
+    pub fn outputs_2d(&self, st: &State) -> super::Outputs {
+        let mut o = self.scene_def().outputs(st, self);
+        o.shared.complete_2d(self.depth());
+        o
+    }
+
     pub fn shared_outputs(&self, st: &State) -> SharedOutputs {
         SharedOutputs::compute_for(
             st,
@@ -235,6 +252,7 @@ impl SceneConfig {
             &super::closed_scenes(),
         )?;
         self.fluid.validate()?;
+        self.validate_dimension()?;
         let estimate = scene.estimated_particles(self);
         if estimate > MAX_PARTICLES {
             return Err(ConfigError::Inconsistent(format!(
@@ -243,6 +261,50 @@ impl SceneConfig {
             )));
         }
         Ok(())
+    }
+
+    /// Under `dimension = 3`: a scene with a 3D form ([`Scene::three_dimensional`]), a weakly
+    /// compressible scheme, and a wall model built for a plane (dummy particles; `auto` means
+    /// them in 3D). Each refusal names the parameter and says why.
+    fn validate_dimension(&self) -> Result<(), ConfigError> {
+        use crate::config::WallBoundary;
+        if self.numerics.dimension != 3 {
+            return Ok(());
+        }
+        let refuse = |why: String| Err(ConfigError::Inconsistent(format!("dimension = 3: {why}")));
+        if !self.scene_def().three_dimensional() {
+            return refuse(format!(
+                "the scene '{}' has no 3D form yet (scenes with one: {})",
+                self.scene,
+                super::three_dimensional_scenes()
+            ));
+        }
+        if self.scheme.is_incompressible() {
+            return refuse(format!(
+                "scheme = {} is built in 2D only (its pressure Poisson and viscous systems and its \
+                 mirror walls); use wcsph or pdri",
+                self.scheme
+            ));
+        }
+        match self.numerics.wall_boundary {
+            WallBoundary::Image | WallBoundary::Ghost => refuse(format!(
+                "wall_boundary = {}: Fang's image and Ren's ghost particles are built as one row of \
+                 columns along a 2D wall line; in 3D the weakly compressible schemes take dummy \
+                 particles (wall_boundary = dummy or auto), three layers under the plane",
+                self.numerics.wall_boundary
+            )),
+            _ => Ok(()),
+        }
+    }
+
+    /// The length across the plane of a 2D flow that the `_total` outputs count \[m\]:
+    /// `depth`, or the scene's reference length (the drop's diameter) when it is 0.
+    pub fn depth(&self) -> f64 {
+        if self.plate.depth > 0.0 {
+            self.plate.depth
+        } else {
+            self.scene_def().reference_length(self)
+        }
     }
 
     /// The defaults of a scene: the table's ([`PARAMS`], Fang's drop) with the scene's own

@@ -1,5 +1,8 @@
 //! The drop impact of Fang 2006 section 4: a disc cut from a Cartesian lattice, moving
-//! vertically down at the impact velocity towards a rigid plate.
+//! vertically down at the impact velocity towards a rigid plate. Under `dimension = 3` the drop
+//! is a sphere cut from the cubic lattice and the plate a plane tilted about the y axis
+//! ([`build_3d`], [`plate_3d`]); its outputs are the shared ones (the load bins along the plate,
+//! per unit depth, hold 0 there).
 
 use super::{Outputs, Scene, SceneConfig, SceneType};
 use crate::boundary::plate::{Motion, Plate};
@@ -8,6 +11,7 @@ use crate::config::{real, real_pos, ConfigError};
 use crate::diagnostics::OutputGroup;
 use crate::state::State;
 use crate::particles::Fluid;
+use crate::dim::{Tensor, Vector};
 use crate::{Mat2, Vec2};
 
 crate::params! {
@@ -33,56 +37,56 @@ pub const WALL_BIN_SPAN: f64 = 6.0;
 crate::outputs! {
     /// The drop's own outputs: the load along the plate (see [`load_outputs`]).
     pub struct DropOutputs {
-        wall_pressure_001: vr 122, unit "Pa"; "Drop: normal load on bin 1 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
-        wall_pressure_002: vr 123, unit "Pa"; "Drop: normal load on bin 2 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
-        wall_pressure_003: vr 124, unit "Pa"; "Drop: normal load on bin 3 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
-        wall_pressure_004: vr 125, unit "Pa"; "Drop: normal load on bin 4 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
-        wall_pressure_005: vr 126, unit "Pa"; "Drop: normal load on bin 5 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
-        wall_pressure_006: vr 127, unit "Pa"; "Drop: normal load on bin 6 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
-        wall_pressure_007: vr 128, unit "Pa"; "Drop: normal load on bin 7 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
-        wall_pressure_008: vr 129, unit "Pa"; "Drop: normal load on bin 8 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
-        wall_pressure_009: vr 130, unit "Pa"; "Drop: normal load on bin 9 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
-        wall_pressure_010: vr 131, unit "Pa"; "Drop: normal load on bin 10 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
-        wall_pressure_011: vr 132, unit "Pa"; "Drop: normal load on bin 11 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
-        wall_pressure_012: vr 133, unit "Pa"; "Drop: normal load on bin 12 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
-        wall_pressure_013: vr 134, unit "Pa"; "Drop: normal load on bin 13 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
-        wall_pressure_014: vr 135, unit "Pa"; "Drop: normal load on bin 14 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
-        wall_pressure_015: vr 136, unit "Pa"; "Drop: normal load on bin 15 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
-        wall_pressure_016: vr 137, unit "Pa"; "Drop: normal load on bin 16 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
-        wall_pressure_017: vr 138, unit "Pa"; "Drop: normal load on bin 17 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
-        wall_pressure_018: vr 139, unit "Pa"; "Drop: normal load on bin 18 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
-        wall_pressure_019: vr 140, unit "Pa"; "Drop: normal load on bin 19 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
-        wall_pressure_020: vr 141, unit "Pa"; "Drop: normal load on bin 20 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
-        wall_pressure_021: vr 142, unit "Pa"; "Drop: normal load on bin 21 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
-        wall_pressure_022: vr 143, unit "Pa"; "Drop: normal load on bin 22 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
-        wall_pressure_023: vr 144, unit "Pa"; "Drop: normal load on bin 23 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
-        wall_pressure_024: vr 145, unit "Pa"; "Drop: normal load on bin 24 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (0 in other scenes)",
-        wall_shear_001: vr 146, unit "Pa"; "Drop: tangential load on bin 1 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
-        wall_shear_002: vr 147, unit "Pa"; "Drop: tangential load on bin 2 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
-        wall_shear_003: vr 148, unit "Pa"; "Drop: tangential load on bin 3 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
-        wall_shear_004: vr 149, unit "Pa"; "Drop: tangential load on bin 4 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
-        wall_shear_005: vr 150, unit "Pa"; "Drop: tangential load on bin 5 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
-        wall_shear_006: vr 151, unit "Pa"; "Drop: tangential load on bin 6 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
-        wall_shear_007: vr 152, unit "Pa"; "Drop: tangential load on bin 7 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
-        wall_shear_008: vr 153, unit "Pa"; "Drop: tangential load on bin 8 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
-        wall_shear_009: vr 154, unit "Pa"; "Drop: tangential load on bin 9 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
-        wall_shear_010: vr 155, unit "Pa"; "Drop: tangential load on bin 10 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
-        wall_shear_011: vr 156, unit "Pa"; "Drop: tangential load on bin 11 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
-        wall_shear_012: vr 157, unit "Pa"; "Drop: tangential load on bin 12 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
-        wall_shear_013: vr 158, unit "Pa"; "Drop: tangential load on bin 13 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
-        wall_shear_014: vr 159, unit "Pa"; "Drop: tangential load on bin 14 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
-        wall_shear_015: vr 160, unit "Pa"; "Drop: tangential load on bin 15 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
-        wall_shear_016: vr 161, unit "Pa"; "Drop: tangential load on bin 16 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
-        wall_shear_017: vr 162, unit "Pa"; "Drop: tangential load on bin 17 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
-        wall_shear_018: vr 163, unit "Pa"; "Drop: tangential load on bin 18 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
-        wall_shear_019: vr 164, unit "Pa"; "Drop: tangential load on bin 19 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
-        wall_shear_020: vr 165, unit "Pa"; "Drop: tangential load on bin 20 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
-        wall_shear_021: vr 166, unit "Pa"; "Drop: tangential load on bin 21 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
-        wall_shear_022: vr 167, unit "Pa"; "Drop: tangential load on bin 22 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
-        wall_shear_023: vr 168, unit "Pa"; "Drop: tangential load on bin 23 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
-        wall_shear_024: vr 169, unit "Pa"; "Drop: tangential load on bin 24 of 24 along the plate, force downhill per bin length per unit depth (0 in other scenes)",
-        wall_moment: vr 170, unit "N.m/m"; "Drop: moment about the impact point of the fluid's normal force on the plate per unit depth [N m/m], sum of s F_n: positive when the load downhill of the impact point (s > 0) dominates (0 in other scenes)",
-        wall_centre_of_pressure: vr 171, unit "m"; "Drop: where along the plate the normal force acts, wall_moment / wall_force_normal, from the impact point, positive downhill; 0 while the normal force is 0 (0 in other scenes)",
+        wall_pressure_001: vr 122, unit "Pa"; "Drop: normal load on bin 1 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_pressure_002: vr 123, unit "Pa"; "Drop: normal load on bin 2 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_pressure_003: vr 124, unit "Pa"; "Drop: normal load on bin 3 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_pressure_004: vr 125, unit "Pa"; "Drop: normal load on bin 4 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_pressure_005: vr 126, unit "Pa"; "Drop: normal load on bin 5 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_pressure_006: vr 127, unit "Pa"; "Drop: normal load on bin 6 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_pressure_007: vr 128, unit "Pa"; "Drop: normal load on bin 7 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_pressure_008: vr 129, unit "Pa"; "Drop: normal load on bin 8 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_pressure_009: vr 130, unit "Pa"; "Drop: normal load on bin 9 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_pressure_010: vr 131, unit "Pa"; "Drop: normal load on bin 10 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_pressure_011: vr 132, unit "Pa"; "Drop: normal load on bin 11 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_pressure_012: vr 133, unit "Pa"; "Drop: normal load on bin 12 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_pressure_013: vr 134, unit "Pa"; "Drop: normal load on bin 13 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_pressure_014: vr 135, unit "Pa"; "Drop: normal load on bin 14 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_pressure_015: vr 136, unit "Pa"; "Drop: normal load on bin 15 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_pressure_016: vr 137, unit "Pa"; "Drop: normal load on bin 16 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_pressure_017: vr 138, unit "Pa"; "Drop: normal load on bin 17 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_pressure_018: vr 139, unit "Pa"; "Drop: normal load on bin 18 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_pressure_019: vr 140, unit "Pa"; "Drop: normal load on bin 19 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_pressure_020: vr 141, unit "Pa"; "Drop: normal load on bin 20 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_pressure_021: vr 142, unit "Pa"; "Drop: normal load on bin 21 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_pressure_022: vr 143, unit "Pa"; "Drop: normal load on bin 22 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_pressure_023: vr 144, unit "Pa"; "Drop: normal load on bin 23 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_pressure_024: vr 145, unit "Pa"; "Drop: normal load on bin 24 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_shear_001: vr 146, unit "Pa"; "Drop: tangential load on bin 1 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_shear_002: vr 147, unit "Pa"; "Drop: tangential load on bin 2 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_shear_003: vr 148, unit "Pa"; "Drop: tangential load on bin 3 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_shear_004: vr 149, unit "Pa"; "Drop: tangential load on bin 4 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_shear_005: vr 150, unit "Pa"; "Drop: tangential load on bin 5 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_shear_006: vr 151, unit "Pa"; "Drop: tangential load on bin 6 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_shear_007: vr 152, unit "Pa"; "Drop: tangential load on bin 7 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_shear_008: vr 153, unit "Pa"; "Drop: tangential load on bin 8 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_shear_009: vr 154, unit "Pa"; "Drop: tangential load on bin 9 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_shear_010: vr 155, unit "Pa"; "Drop: tangential load on bin 10 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_shear_011: vr 156, unit "Pa"; "Drop: tangential load on bin 11 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_shear_012: vr 157, unit "Pa"; "Drop: tangential load on bin 12 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_shear_013: vr 158, unit "Pa"; "Drop: tangential load on bin 13 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_shear_014: vr 159, unit "Pa"; "Drop: tangential load on bin 14 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_shear_015: vr 160, unit "Pa"; "Drop: tangential load on bin 15 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_shear_016: vr 161, unit "Pa"; "Drop: tangential load on bin 16 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_shear_017: vr 162, unit "Pa"; "Drop: tangential load on bin 17 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_shear_018: vr 163, unit "Pa"; "Drop: tangential load on bin 18 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_shear_019: vr 164, unit "Pa"; "Drop: tangential load on bin 19 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_shear_020: vr 165, unit "Pa"; "Drop: tangential load on bin 20 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_shear_021: vr 166, unit "Pa"; "Drop: tangential load on bin 21 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_shear_022: vr 167, unit "Pa"; "Drop: tangential load on bin 22 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_shear_023: vr 168, unit "Pa"; "Drop: tangential load on bin 23 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_shear_024: vr 169, unit "Pa"; "Drop: tangential load on bin 24 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_moment: vr 170, unit "N.m/m"; "Drop: moment about the impact point of the fluid's normal force on the plate per unit depth [N m/m], sum of s F_n: positive when the load downhill of the impact point (s > 0) dominates (2D; 0 in 3D and in other scenes)",
+        wall_centre_of_pressure: vr 171, unit "m"; "Drop: where along the plate the normal force acts, wall_moment / wall_force_normal, from the impact point, positive downhill; 0 while the normal force is 0 (2D; 0 in 3D and in other scenes)",
     }
 }
 
@@ -163,12 +167,60 @@ pub fn build(cfg: &SceneConfig, rest: Option<Mat2>) -> (Fluid, Plate) {
     (fluid, plate)
 }
 
+/// The plate of a 3D drop: the plane through the origin inclined at `inclination_deg` about
+/// the y axis (across the downhill direction), downhill towards +x: t = (cos a, 0, -sin a),
+/// n = (sin a, 0, cos a), so the 2D plate's frame is its section y = 0 and n x t = +y.
+pub fn plate_3d(inclination_deg: f64, dx: f64) -> Plate<3> {
+    let a = inclination_deg.to_radians();
+    Plate::through(
+        Vector::<3>::zeros(),
+        Vector::<3>::new(a.sin(), 0.0, a.cos()),
+        Vector::<3>::new(a.cos(), 0.0, -a.sin()),
+        dx,
+    )
+}
+
+/// Build the fluid of a 3D drop: a sphere cut from the cubic lattice (i + 1/2, j + 1/2,
+/// k + 1/2) dx about the drop centre in the plate's frame (along t, n x t and n), as the 2D
+/// drop's disc, moving vertically down (-z) at the impact velocity; each particle of mass
+/// rho0 dx^3.
+pub fn build_3d(cfg: &SceneConfig, rest: Option<Tensor<3>>) -> (Fluid<3>, Plate<3>) {
+    let dx = cfg.dx();
+    let plate = plate_3d(cfg.plate.plate_inclination, dx);
+    let centre = Vector::<3>::new(0.0, 0.0, cfg.drop.initial_drop_height);
+    let (sc, dc) = (plate.s(&centre), plate.d(&centre));
+    let across = plate.n.cross(&plate.t);
+    let r = 0.5 * cfg.drop.drop_diameter;
+    let n = cfg.numerics.particles_per_diameter;
+    let mut fluid = Fluid::<3> {
+        mass: cfg.fluid.density * dx.powi(3),
+        ..Default::default()
+    };
+    for k in -n..n {
+        for j in -n..n {
+            for i in -n..n {
+                let l = Vector::<3>::new(i as f64 + 0.5, j as f64 + 0.5, k as f64 + 0.5) * dx;
+                if l.norm_squared() < r * r {
+                    fluid.x.push(plate.point(sc + l.x, dc + l.z) + across * l.y);
+                }
+            }
+        }
+    }
+    let v0 = Vector::<3>::new(0.0, 0.0, -cfg.drop.impact_velocity);
+    fluid.v = vec![v0; fluid.x.len()];
+    fluid.rho = vec![cfg.fluid.density; fluid.x.len()];
+    if let Some(a0) = rest {
+        fluid.conf = vec![a0; fluid.x.len()];
+    }
+    (fluid, plate)
+}
+
 /// The drop impact scene (see the module documentation).
 pub struct Drop;
 
 impl SceneType for Drop {
     const NAME: &'static str = "drop";
-    const DESCRIPTION: &'static str = "2D drop falling onto a straight rigid plate";
+    const DESCRIPTION: &'static str = "Drop falling onto a rigid plate: a disc on a straight plate in 2D, a sphere on a plane plate in 3D";
     type Params = DropParams;
     type Outputs = DropOutputs;
 }
@@ -211,10 +263,15 @@ impl Scene for Drop {
         (drop + cfg.plate.max_plate_speed).max(1e-3)
     }
 
-    /// The fluid and the plate's wall particles (four rows, twenty diameters long).
+    /// The fluid and the plate's wall particles: in 2D four rows, twenty diameters long; in
+    /// 3D a sphere and three layers under a plate four diameters square.
     fn estimated_particles(&self, cfg: &SceneConfig) -> f64 {
         let ppd = cfg.numerics.particles_per_diameter as f64;
-        std::f64::consts::FRAC_PI_4 * ppd * ppd + 4.0 * ppd * 20.0
+        if cfg.numerics.dimension == 3 {
+            std::f64::consts::FRAC_PI_6 * ppd.powi(3) + 3.0 * 16.0 * ppd * ppd
+        } else {
+            std::f64::consts::FRAC_PI_4 * ppd * ppd + 4.0 * ppd * 20.0
+        }
     }
 
     fn domain_radius(&self, cfg: &SceneConfig) -> f64 {
@@ -236,6 +293,17 @@ impl Scene for Drop {
             )));
         }
         Ok(())
+    }
+
+    /// A sphere on a plane plate ([`build_3d`]), the plate moved by the inputs as in 2D.
+    fn three_dimensional(&self) -> bool {
+        true
+    }
+
+    fn initial_state_3d(&self, cfg: &SceneConfig, rest: Option<Tensor<3>>) -> Option<State<3>> {
+        let (fluid, plate) = build_3d(cfg, rest);
+        let walls = vec![plate.with_motion(Motion::Input).into()];
+        Some(State::new(fluid, walls, self.plate_wall()))
     }
 
     fn build(&self, cfg: &SceneConfig, rest: Option<Mat2>) -> (Fluid, Vec<Wall>) {

@@ -30,6 +30,7 @@ use crate::config::{
     PlateParams, Value,
 };
 use crate::diagnostics::{OutputGroup, OutputSpec, SharedOutputs};
+use crate::dim::Tensor;
 use crate::neighbors::Domain;
 use crate::particles::Fluid;
 pub use crate::scheme::SchemeKind;
@@ -155,6 +156,32 @@ pub trait Scene: Send + Sync {
 
     /// Called before every step (inflow).
     fn before_step(&self, _cfg: &SceneConfig, _st: &mut State) {}
+
+    // ---- Three dimensions (`dimension = 3`).
+
+    /// Whether the scene has a three-dimensional form: [`Scene::initial_state_3d`] builds it
+    /// and [`Scene::outputs_3d`] measures it. A scene without one is refused under
+    /// `dimension = 3`, by name.
+    fn three_dimensional(&self) -> bool {
+        false
+    }
+
+    /// The initial state in three dimensions (the 2D plane of the flow is x-z, gravity along
+    /// -z, y across it), or None for a scene without a 3D form. `rest` as in
+    /// [`Scene::build`].
+    fn initial_state_3d(&self, _cfg: &SceneConfig, _rest: Option<Tensor<3>>) -> Option<State<3>> {
+        None
+    }
+
+    /// The outputs of a 3D state: the shared ones (per-depth outputs 0, the `_total` ones in
+    /// newtons and joules, `drop_width_transverse` across the plate); the scene's own groups
+    /// hold 0 unless the scene measures them in 3D.
+    fn outputs_3d(&self, st: &State<3>, cfg: &SceneConfig) -> Outputs {
+        Outputs {
+            shared: SharedOutputs::compute(st, cfg.dx(), cfg.fluid.density),
+            ..Default::default()
+        }
+    }
 
     /// The outputs of a state: the shared ones ([`SceneConfig::shared_outputs`]) and the
     /// scene's own; every other scene's hold 0.
@@ -428,6 +455,15 @@ pub fn closed_scenes() -> String {
         .map(|n| format!("'{n}'"))
         .collect();
     names.join(" or ")
+}
+
+/// The scenes with a 3D form, quoted, for messages ("'drop'").
+pub fn three_dimensional_scenes() -> String {
+    let names: Vec<String> = names_where(|s| s.three_dimensional())
+        .iter()
+        .map(|n| format!("'{n}'"))
+        .collect();
+    names.join(", ")
 }
 
 /// The scenes whose plate the input `plate_velocity` moves, for messages ("the drop").

@@ -194,11 +194,61 @@ pub fn build(
     })
 }
 
-/// Whether the fluid's model carries a conformation tensor, and its rest state if so.
-pub fn rest_conformation(fluid: &FluidParams) -> Option<crate::Mat2> {
-    dispatch_rheology!(AnyRheology::from_fluid(fluid), m => rest_of(&m))
+/// The scheme `kind` in three dimensions, as [`build`] does in two, with Adami, Hu & Adams
+/// 2012's dummy particles on every wall (the one wall model built for a plane; the
+/// configuration refuses the others under `dimension = 3`), or why it cannot be built.
+pub fn build_3d(
+    kind: SchemeKind,
+    fluid: &FluidParams,
+    numerics: &Numerics,
+    params: Params<3>,
+    walls: &[Wall<3>],
+) -> Result<Box<dyn Scheme<3>>, String> {
+    use crate::boundary::dummy::DummyWall;
+    use crate::boundary::Boundary;
+    use crate::kernel::CubicSplineKernel;
+    let model = AnyRheology::from_fluid(fluid);
+    let kernel = CubicSplineKernel::<3>::new(numerics.smoothing_ratio * params.dx);
+    let dummies = || -> Vec<Box<dyn Boundary<3>>> {
+        walls
+            .iter()
+            .map(|_| {
+                Box::new(DummyWall::new(
+                    kernel,
+                    params.domain,
+                    params.dx,
+                    params.gravity,
+                )) as Box<dyn Boundary<3>>
+            })
+            .collect()
+    };
+    dispatch_rheology!(model, m => {
+        match kind {
+            SchemeKind::Wcsph => Ok(Box::new(Wcsph::with_walls(kernel, m, params.clone(), dummies()))
+                as Box<dyn Scheme<3>>),
+            SchemeKind::Pdri => Ok(Box::new(Pdri::with_walls(kernel, m, params.clone(), dummies()))
+                as Box<dyn Scheme<3>>),
+            SchemeKind::Isph => Err(format!("scheme = {kind} is built in 2D only")),
+        }
+    })
 }
 
-fn rest_of<R: Rheology>(m: &R) -> Option<crate::Mat2> {
-    R::ELASTIC.then(|| m.rest_conformation())
+/// Whether the fluid's model carries a conformation tensor, and its rest state if so.
+pub fn rest_conformation(fluid: &FluidParams) -> Option<crate::Mat2> {
+    rest_conformation_in::<2>(fluid)
+}
+
+/// [`rest_conformation`] in N dimensions.
+pub fn rest_conformation_in<const N: usize>(fluid: &FluidParams) -> Option<crate::dim::Tensor<N>>
+where
+    crate::dim::Const<N>: crate::dim::Dim,
+{
+    dispatch_rheology!(AnyRheology::from_fluid(fluid), m => rest_of::<_, N>(&m))
+}
+
+fn rest_of<R: Rheology, const N: usize>(m: &R) -> Option<crate::dim::Tensor<N>>
+where
+    crate::dim::Const<N>: crate::dim::Dim,
+{
+    R::ELASTIC.then(|| m.rest_conformation::<N>())
 }

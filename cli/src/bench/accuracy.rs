@@ -140,7 +140,8 @@ pub fn bench_accuracy(out: &Path, quick: bool) -> Result<String, Box<dyn std::er
             };
             eprintln!("bench: elliptical drop, {name} at {ppd} ...");
             let r = run(&cfg, &opts, &crate::predictions::ReferenceModels)?;
-            let e = viscosph::scene::elliptical_drop::semi_axes(&r.state.fluid, r.state.time);
+            let st = r.state.as_ref().ok_or("the elliptical drop runs in 2D")?;
+            let e = viscosph::scene::elliptical_drop::semi_axes(&st.fluid, st.time);
             writeln!(
                 md,
                 "| {name} | {ppd} | {} | {:.2} | {:+.3} % | {:.4} / {:.4} |",

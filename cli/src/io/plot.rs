@@ -390,6 +390,8 @@ pub struct Snapshot {
     pub plates: Vec<PlateLine>,
     /// A nozzle to draw: its exit from x = .0 to .1 at height .2 \[m\], walls up from there.
     pub nozzle: Option<(f64, f64, f64)>,
+    /// Names of the horizontal and vertical axes ("x", "y"; a 3D side view: "x", "z").
+    pub axes: (String, String),
 }
 
 /// A straight wall surface: a point on it and its unit tangent.
@@ -566,8 +568,8 @@ pub fn particle_snapshots(
             .disable_mesh()
             .x_labels(5)
             .y_labels(5)
-            .x_desc(format!("x [{unit}]"))
-            .y_desc(format!("y [{unit}]"))
+            .x_desc(format!("{} [{unit}]", shot.axes.0))
+            .y_desc(format!("{} [{unit}]", shot.axes.1))
             .x_label_formatter(&|v| tick(*v))
             .y_label_formatter(&|v| tick(*v))
             .label_style((FONT, TICKS))

@@ -2,7 +2,15 @@
 
 use std::io::Write;
 use std::path::Path;
-use viscosph::Vec2;
+
+/// The third coordinate: "0" as a 2D file always wrote it, else in full.
+fn xyz_z(z: f64) -> String {
+    if z == 0.0 {
+        "0".into()
+    } else {
+        format!("{z:.9e}")
+    }
+}
 
 /// One named scalar field per particle.
 pub struct Field<'a> {
@@ -10,11 +18,12 @@ pub struct Field<'a> {
     pub values: &'a [f64],
 }
 
-/// Write points (z = 0) with vertex cells, a velocity vector field and scalar fields.
+/// Write points (a 2D run's at z = 0) with vertex cells, a velocity vector field and scalar
+/// fields.
 pub fn write_particles(
     path: &Path,
-    positions: &[Vec2],
-    velocities: &[Vec2],
+    positions: &[[f64; 3]],
+    velocities: &[[f64; 3]],
     fields: &[Field<'_>],
 ) -> std::io::Result<()> {
     let n = positions.len();
@@ -25,7 +34,7 @@ pub fn write_particles(
     writeln!(w, "DATASET POLYDATA")?;
     writeln!(w, "POINTS {n} double")?;
     for p in positions {
-        writeln!(w, "{:.9e} {:.9e} 0", p.x, p.y)?;
+        writeln!(w, "{:.9e} {:.9e} {}", p[0], p[1], xyz_z(p[2]))?;
     }
     writeln!(w, "VERTICES {n} {}", 2 * n)?;
     for i in 0..n {
@@ -34,7 +43,7 @@ pub fn write_particles(
     writeln!(w, "POINT_DATA {n}")?;
     writeln!(w, "VECTORS velocity double")?;
     for v in velocities {
-        writeln!(w, "{:.9e} {:.9e} 0", v.x, v.y)?;
+        writeln!(w, "{:.9e} {:.9e} {}", v[0], v[1], xyz_z(v[2]))?;
     }
     for f in fields {
         assert_eq!(f.values.len(), n, "field {} has the wrong length", f.name);

@@ -396,7 +396,7 @@ impl Instance {
                 if let Some(bad) = non_finite(&outputs) {
                     return error(format!("the initial state has a non-finite output '{bad}'"));
                 }
-                let n = sim.state().fluid.len();
+                let n = sim.particle_count();
                 s.first_dt = first_time_step(&s.cfg)?;
                 if let (Some(stop), Some(dt)) = (s.stop_time, s.first_dt) {
                     let what = format!(
@@ -537,10 +537,10 @@ impl Instance {
                         e => error(e.to_string()),
                     };
                 }
-                let dt = Some(sim.state().last_dt).filter(|&dt| dt > 0.0).or(s.first_dt);
+                let dt = Some(sim.last_dt()).filter(|&dt| dt > 0.0).or(s.first_dt);
                 if let Some(dt) = dt {
                     let what = format!("communicationStepSize = {h} s");
-                    let length = RunLength::at_step(target - start - sim.time(), dt, sim.state().fluid.len());
+                    let length = RunLength::at_step(target - start - sim.time(), dt, sim.particle_count());
                     if let Some(refusal) = length.too_long(&what) {
                         s.phase = Phase::StepFailed;
                         s.resumable = true;
@@ -719,5 +719,5 @@ fn illegal_sequence(func: &str, allowed: u8, phase: Phase, cause: Option<&str>) 
 fn first_time_step(cfg: &SceneConfig) -> Answer<Option<f64>> {
     let mut probe = Simulation::new(cfg.clone()).map_err(|e| Fail::Error(e.to_string()))?;
     let stepped = probe.advance_to(f64::MIN_POSITIVE).is_ok();
-    Ok(Some(probe.state().last_dt).filter(|&dt| stepped && dt > 0.0))
+    Ok(Some(probe.last_dt()).filter(|&dt| stepped && dt > 0.0))
 }

@@ -15,17 +15,28 @@
 //! shortened), so that an input set at a communication point acts from exactly that time; if the
 //! solver had already stepped past it, it goes back to the state before that step first.
 
+/// `$body` with `$r` the running [`Run`], of either dimension.
+macro_rules! on_run {
+    ($run:expr, $r:ident => $body:expr) => {
+        match $run {
+            Runs::D2($r) => $body,
+            Runs::D3($r) => $body,
+        }
+    };
+}
+
+mod run;
+mod view;
+
+pub use view::Particles;
+
 use crate::boundary::plate::Motion;
 use crate::budget::Budget;
 use crate::config::{ConfigError, PlateCoupling};
-use crate::diagnostics::pressure_roughness;
-use crate::kernel::CubicSpline;
 use crate::scene::{Inputs, Outputs, Scene, SceneConfig};
-use crate::scheme::params::Params;
-use crate::scheme::{Scheme, Timings};
 use crate::state::State;
-use crate::Vec2;
-use std::sync::atomic::{AtomicBool, Ordering};
+use run::{apply_plate_input, Drive, Run, Runs, Saved};
+use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 use thiserror::Error;
 
@@ -53,19 +64,6 @@ pub enum SimError {
     InputOutOfRange(String),
 }
 
-/// What a saved state holds besides the configuration (see [`Simulation::save_state`]).
-#[derive(serde::Serialize, serde::Deserialize)]
-struct Saved {
-    state: State,
-    t_comm: f64,
-    prev: Option<(f64, Outputs)>,
-    exact: bool,
-    rewind: Option<State>,
-    /// The inputs in force (the configuration holds their start values).
-    inputs: Inputs,
-    inputs_time: f64,
-}
-
 /// A running simulation.
 pub struct Simulation {
     cfg: SceneConfig,
@@ -73,24 +71,15 @@ pub struct Simulation {
     /// ([`Scene::effective_config`]; equal to `cfg` for the drop), with the inputs in force.
     eff: SceneConfig,
     scene: &'static dyn Scene,
-    state: State,
-    /// The scheme's constants, resolved once from the effective configuration with the
-    /// inputs' start values (the automatic sound speed of the jet follows its start speed).
-    params: Params,
-    scheme: Box<dyn Scheme>,
+    /// The state, the scheme and what dense output keeps, in the run's dimension.
+    run: Runs,
     elastic: bool,
     pool: Arc<rayon::ThreadPool>,
     /// The communication time: where the caller asked to be. In dense-output mode the solver's
-    /// own state (`state.time`) is at or just past it.
+    /// own state (its `time`) is at or just past it.
     t_comm: f64,
-    /// Time and outputs of the internal state before the last step, for interpolating the
-    /// outputs at `t_comm` (None before the first step).
-    prev: Option<(f64, Outputs)>,
     /// Whether steps land exactly on communication points (once an input has changed).
     exact: bool,
-    /// In dense-output mode, the state before the last internal step (at or before `t_comm`),
-    /// to go back to when an input changes at `t_comm`.
-    rewind: Option<State>,
     /// Checked before every step: when it is set, `advance_to` stops there (see
     /// [`Simulation::set_stop_flag`]).
     stop: Option<Arc<AtomicBool>>,
@@ -144,30 +133,6 @@ fn plate_speed_refusal(what: &str, speed: f64, max: f64) -> String {
     )
 }
 
-/// Put the inputs of `cfg` in force in `st`: a plate whose motion is the input moves at
-/// `plate_velocity`; the scene reads its own inputs from the configuration.
-fn apply_plate_input(cfg: &SceneConfig, st: &mut State) {
-    if let Some(plate) = st.plate_mut() {
-        if plate.motion == Motion::Input {
-            plate.velocity = cfg.plate.plate_velocity;
-        }
-    }
-}
-
-/// Whether every wall of the initial state takes the wall model `wall_boundary` asks for under
-/// `scheme` ([`crate::boundary::resolve`]).
-fn check_wall_models(
-    scheme: crate::scheme::SchemeKind,
-    choice: crate::config::WallBoundary,
-    st: &State,
-) -> Result<(), ConfigError> {
-    let paper = scheme.paper_wall_model();
-    for w in &st.walls {
-        crate::boundary::resolve(choice, paper, w).map_err(ConfigError::Inconsistent)?;
-    }
-    Ok(())
-}
-
 fn thread_pool(cfg: &SceneConfig) -> Result<Arc<rayon::ThreadPool>, SimError> {
     rayon::ThreadPoolBuilder::new()
         .num_threads(cfg.numerics.threads as usize)
@@ -205,18 +170,12 @@ impl Simulation {
         // state, the configuration resolves the scheme's constants, the scheme is built on them.
         let scene = cfg.scene_def();
         let eff = scene.effective_config(&cfg);
-        let rest = crate::scheme::rest_conformation(&eff.fluid);
-        let mut state = scene.initial_state(&eff, rest);
-        apply_plate_input(&eff, &mut state);
-        let params = eff.scheme_params();
-        check_wall_models(eff.scheme, params.wall_boundary, &state)?;
-        let scheme = crate::scheme::build(
-            eff.scheme,
-            &eff.fluid,
-            &eff.numerics,
-            params.clone(),
-            &state.walls,
-        );
+        let run = if eff.numerics.dimension == 3 {
+            Runs::D3(Run::new(scene, &eff)?)
+        } else {
+            Runs::D2(Run::new(scene, &eff)?)
+        };
+        let elastic = crate::scheme::rest_conformation(&eff.fluid).is_some();
         // A plate steered to a position moves at a velocity that depends on the length of the
         // communication step: the steps land on every communication point.
         let steered =
@@ -225,15 +184,11 @@ impl Simulation {
             cfg,
             eff,
             scene,
-            state,
-            params,
-            scheme,
-            elastic: rest.is_some(),
+            run,
+            elastic,
             pool,
             t_comm: 0.0,
-            prev: None,
             exact: steered,
-            rewind: None,
             stop: None,
             inputs_time: 0.0,
         })
@@ -253,8 +208,49 @@ impl Simulation {
     pub fn scene(&self) -> &'static dyn Scene {
         self.scene
     }
+    /// The state of a 2D run (see [`Simulation::state_3d`]).
+    ///
+    /// # Panics
+    /// In a 3D run (`dimension = 3`): its state is a `State<3>`.
     pub fn state(&self) -> &State {
-        &self.state
+        match &self.run {
+            Runs::D2(r) => &r.state,
+            Runs::D3(_) => {
+                panic!("state(): a 3D run (dimension = 3) has a State<3>: use state_3d()")
+            }
+        }
+    }
+    /// The state of a 3D run (None in 2D).
+    pub fn state_3d(&self) -> Option<&State<3>> {
+        match &self.run {
+            Runs::D2(_) => None,
+            Runs::D3(r) => Some(&r.state),
+        }
+    }
+    /// The space dimension of the run (2 or 3).
+    pub fn dimension(&self) -> usize {
+        on_run!(&self.run, r => r.state.fluid.x.first().map_or(
+            self.eff.numerics.dimension as usize, |x| x.len()))
+    }
+    /// The solver's own time (in dense-output mode at or just past [`Simulation::time`]).
+    pub fn state_time(&self) -> f64 {
+        on_run!(&self.run, r => r.state.time)
+    }
+    /// Steps taken since t = 0.
+    pub fn steps(&self) -> u64 {
+        on_run!(&self.run, r => r.state.step)
+    }
+    /// Number of fluid particles.
+    pub fn particle_count(&self) -> usize {
+        on_run!(&self.run, r => r.state.fluid.len())
+    }
+    /// The stable time step at the last step \[s\] (0 before the first).
+    pub fn last_dt(&self) -> f64 {
+        on_run!(&self.run, r => r.state.last_dt)
+    }
+    /// How many times the impenetrability condition put a particle back above a plate.
+    pub fn wall_reflections(&self) -> u64 {
+        on_run!(&self.run, r => r.state.wall_reflections)
     }
     /// The communication time: the `t_end` of the last successful [`Simulation::advance_to`]
     /// (or, after a breakdown, the time of the last good state). In dense-output mode the
@@ -293,15 +289,18 @@ impl Simulation {
         if next.inputs() == self.eff.inputs() {
             return Ok(());
         }
-        if !self.exact && self.state.time > self.t_comm {
+        if !self.exact && self.state_time() > self.t_comm {
             // The last internal step went past t_comm with the old inputs: go back to the state
             // before it and land exactly on t_comm.
-            if let Some(before) = self.rewind.take() {
-                self.state = before;
-                // The scheme's neighbour lists and wall particles belong to the state after
-                // the step (walls grow as the fluid spreads): start them afresh.
-                self.scheme = self.fresh_scheme();
-            }
+            let eff = &self.eff;
+            on_run!(&mut self.run, r => {
+                if let Some(before) = r.rewind.take() {
+                    r.state = before;
+                    // The scheme's neighbour lists and wall particles belong to the state after
+                    // the step (walls grow as the fluid spreads): start them afresh.
+                    r.refresh_scheme(eff)?;
+                }
+            });
             self.exact = true;
             let t = self.t_comm;
             self.advance_to(t)?;
@@ -309,7 +308,7 @@ impl Simulation {
         self.exact = true;
         self.eff = next;
         self.inputs_time = self.t_comm;
-        apply_plate_input(&self.eff, &mut self.state);
+        on_run!(&mut self.run, r => apply_plate_input(&self.eff, &mut r.state));
         Ok(())
     }
 
@@ -318,22 +317,26 @@ impl Simulation {
     /// `plate_velocity` then moves the wall only if `motion` is [`Motion::Input`] and the wall
     /// is the scene's plate.
     pub fn set_wall_motion(&mut self, wall: usize, motion: Motion) -> Result<(), SimError> {
-        let n = self.state.walls.len();
         let t = self.t_comm;
-        let w = self
-            .state
-            .walls
-            .get_mut(wall)
-            .ok_or_else(|| SimError::Request(format!("no wall {wall} (this scene has {n} walls)")))?
-            .plate_mut()
-            .ok_or_else(|| {
-                SimError::Request(format!("wall {wall} is not straight: it is fixed"))
-            })?;
-        w.motion = motion;
-        if let Motion::Prescribed(p) = motion {
-            w.velocity = p.at(t);
-        }
-        apply_plate_input(&self.eff, &mut self.state);
+        on_run!(&mut self.run, r => {
+            let n = r.state.walls.len();
+            let w = r
+                .state
+                .walls
+                .get_mut(wall)
+                .ok_or_else(|| {
+                    SimError::Request(format!("no wall {wall} (this scene has {n} walls)"))
+                })?
+                .plate_mut()
+                .ok_or_else(|| {
+                    SimError::Request(format!("wall {wall} is not straight: it is fixed"))
+                })?;
+            w.motion = motion;
+            if let Motion::Prescribed(p) = motion {
+                w.velocity = p.at(t);
+            }
+            apply_plate_input(&self.eff, &mut r.state);
+        });
         Ok(())
     }
 
@@ -367,8 +370,13 @@ impl Simulation {
     /// refused if that velocity is beyond `max_plate_speed`.
     fn plate_steering(&self, t_end: f64) -> Result<Option<f64>, SimError> {
         let p = &self.eff.plate;
-        let h = t_end - self.state.time;
-        let Some(plate) = self.state.plate().filter(|w| w.motion == Motion::Input) else {
+        let h = t_end - self.state_time();
+        let Some(displacement) = on_run!(&self.run, r => r
+            .state
+            .plate()
+            .filter(|w| w.motion == Motion::Input)
+            .map(|w| w.displacement))
+        else {
             return Ok(None);
         };
         if p.plate_coupling != PlateCoupling::Position || !self.scene.has_moving_plate() || h <= 0.0
@@ -377,7 +385,7 @@ impl Simulation {
         }
         let target = p.plate_position + p.plate_velocity * (t_end - self.inputs_time);
         let max = self.cfg.plate.max_plate_speed;
-        let u = (target - plate.displacement) / h;
+        let u = (target - displacement) / h;
         if u.abs() <= max {
             return Ok(Some(u));
         }
@@ -385,7 +393,7 @@ impl Simulation {
             &format!(
                 "plate_position = {} m with plate_velocity = {} m/s (plate_coupling = position) \
                  asks the plate, now at {} m, to move at {u} m/s until t = {t_end} s, which",
-                p.plate_position, p.plate_velocity, plate.displacement
+                p.plate_position, p.plate_velocity, displacement
             ),
             u,
             max,
@@ -401,79 +409,34 @@ impl Simulation {
     /// Put [`Simulation::plate_steering`] in force until `t_end`.
     fn steer_plate(&mut self, t_end: f64) -> Result<(), SimError> {
         if let Some(u) = self.plate_steering(t_end)? {
-            if let Some(plate) = self.state.plate_mut() {
-                plate.velocity = u;
-            }
+            on_run!(&mut self.run, r => {
+                if let Some(plate) = r.state.plate_mut() {
+                    plate.velocity = u;
+                }
+            });
         }
         Ok(())
     }
 
     fn advance_in_pool(&mut self, t_end: f64, budget: &Budget) -> Result<(), SimError> {
-        let mut last_before: Option<State> = None;
-        let (started, mut taken) = (std::time::Instant::now(), 0u64);
-        while self.state.time < t_end {
-            let (time, step) = (self.state.time, self.state.step);
-            let stop = if self
-                .stop
-                .as_ref()
-                .is_some_and(|f| f.load(Ordering::Relaxed))
-            {
-                Some(SimError::Interrupted { time, step })
-            } else {
-                budget
-                    .exceeded(taken, started)
-                    .map(|spent| SimError::OverBudget { time, step, spent })
-            };
-            if let Some(err) = stop {
-                self.t_comm = self.t_comm.max(self.state.time);
-                if let Some(b) = last_before {
-                    self.prev = Some((b.time, self.scene.outputs(&b, &self.eff)));
-                }
-                self.rewind = None;
-                return Err(err);
-            }
-            taken += 1;
-            let before = self.state.clone();
-            let max_dt = if self.exact {
-                t_end - self.state.time
-            } else {
-                f64::INFINITY
-            };
-            self.scene.before_step(&self.eff, &mut self.state);
-            match self.scheme.step(&mut self.state, max_dt) {
-                Ok(dt) => {
-                    self.state.step += 1;
-                    self.state.time = if dt >= max_dt {
-                        t_end
-                    } else {
-                        self.state.time + dt
-                    };
-                    let t = self.state.time;
-                    for wall in &mut self.state.walls {
-                        wall.advance(t, dt);
-                    }
-                    last_before = Some(before);
-                }
-                Err(cause) => {
-                    let err = SimError::Breakdown {
-                        time: before.time,
-                        step: before.step + 1,
-                        cause,
-                    };
-                    self.state = before;
-                    self.t_comm = self.t_comm.max(self.state.time);
-                    self.prev = None;
-                    self.rewind = None;
-                    return Err(err);
-                }
-            }
+        let d = Drive {
+            scene: self.scene,
+            eff: &self.eff,
+            exact: self.exact,
+            stop: self.stop.as_ref(),
+        };
+        let t_comm = &mut self.t_comm;
+        on_run!(&mut self.run, r => r.advance(&d, t_end, budget, t_comm))
+    }
+
+    /// What the stepping loop and the outputs read of this simulation.
+    fn drive(&self) -> Drive<'_> {
+        Drive {
+            scene: self.scene,
+            eff: &self.eff,
+            exact: self.exact,
+            stop: self.stop.as_ref(),
         }
-        if let Some(b) = last_before {
-            self.prev = Some((b.time, self.scene.outputs(&b, &self.eff)));
-            self.rewind = (!self.exact).then_some(b);
-        }
-        self.t_comm = t_end;
-        Ok(())
     }
 
     /// Advance to `t_end` recording the outputs now and every `dt` after: the record as far as it
@@ -493,107 +456,65 @@ impl Simulation {
     /// The outputs at the communication time: linear interpolation between the internal states
     /// just before and at or after it (`time_step` and `particle_count` are the current ones).
     pub fn outputs(&self) -> Outputs {
-        let now = self.scene.outputs(&self.state, &self.eff);
-        match self.prev {
-            Some((tp, before)) if self.state.time > self.t_comm && tp <= self.t_comm => {
-                let w = (self.t_comm - tp) / (self.state.time - tp);
-                let (a, b) = (before.values(), now.values());
-                let mixed_values: Vec<f64> =
-                    a.iter().zip(&b).map(|(a, b)| a + w * (b - a)).collect();
-                let mut mixed = now;
-                mixed.set_values(&mixed_values);
-                mixed.shared.time_step = now.shared.time_step;
-                mixed.shared.particle_count = now.shared.particle_count;
-                mixed
-            }
-            _ => now,
-        }
-    }
-
-    /// Pressure roughness of the fluid now: RMS of p_i minus its SPH-smoothed value, over the
-    /// dynamic pressure rho0 U^2 of the scene (see [`pressure_roughness`] and
-    /// [`Scene::velocity_scale`]).
-    pub fn pressure_roughness(&self) -> f64 {
-        let u = self.scene.velocity_scale(&self.eff);
-        let p = &self.params;
-        let (fluid, kernel) = (&self.state.fluid, CubicSpline::new(self.eff.h()));
-        let scale = self.eff.fluid.density * u * u;
-        self.pool
-            .install(|| pressure_roughness(fluid, &p.eos, &kernel, &p.domain, scale))
-    }
-
-    /// Total momentum of the fluid [kg m/s per m depth].
-    pub fn fluid_momentum(&self) -> Vec2 {
-        let f = &self.state.fluid;
-        f.v.iter().fold(Vec2::zeros(), |s, v| s + v) * f.mass
-    }
-
-    /// Total fluid mass [kg per m depth].
-    pub fn fluid_mass(&self) -> f64 {
-        self.state.fluid.mass * self.state.fluid.len() as f64
-    }
-
-    /// Where the scheme's time went since the simulation was built or restored (empty for
-    /// schemes that time nothing).
-    pub fn scheme_timings(&self) -> Timings {
-        self.scheme.timings()
-    }
-
-    /// Positions of the wall particles currently built.
-    pub fn wall_positions(&self) -> Vec<Vec2> {
-        self.scheme.wall_positions(&self.state)
+        let d = self.drive();
+        on_run!(&self.run, r => r.outputs_at(&d, self.t_comm))
     }
 
     /// The state as bytes (bincode): configuration and state, no pointers.
     pub fn save_state(&self) -> Vec<u8> {
-        let saved = Saved {
-            state: self.state.clone(),
-            t_comm: self.t_comm,
-            prev: self.prev,
-            exact: self.exact,
-            rewind: self.rewind.clone(),
-            inputs: self.inputs(),
-            inputs_time: self.inputs_time,
-        };
-        bincode::serialize(&(&self.cfg, &saved)).expect("state serialises")
+        on_run!(&self.run, r => {
+            let saved = Saved {
+                state: r.state.clone(),
+                t_comm: self.t_comm,
+                prev: r.prev,
+                exact: self.exact,
+                rewind: r.rewind.clone(),
+                inputs: self.inputs(),
+                inputs_time: self.inputs_time,
+            };
+            bincode::serialize(&(&self.cfg, &saved)).expect("state serialises")
+        })
     }
 
     /// Restore a state saved by [`Simulation::save_state`], possibly in another process. The
     /// thread pool is kept unless the saved configuration asks for another size.
     pub fn restore_state(&mut self, bytes: &[u8]) -> Result<(), SimError> {
-        let (cfg, saved): (SceneConfig, Saved) =
-            bincode::deserialize(bytes).map_err(|e| SimError::State(e.to_string()))?;
+        let bad = |e: bincode::Error| SimError::State(e.to_string());
+        // The configuration comes first and says the dimension of the rest.
+        let cfg: SceneConfig = bincode::deserialize(bytes).map_err(bad)?;
         let pool = if cfg.numerics.threads == self.cfg.numerics.threads {
             Arc::clone(&self.pool)
         } else {
             thread_pool(&cfg)?
         };
+        let dimension = cfg.numerics.dimension;
         let mut sim = Self::with_pool(cfg, pool)?;
-        sim.state = saved.state;
-        sim.scheme = sim.fresh_scheme();
+        let (inputs, t_comm, exact, inputs_time) = match (&mut sim.run, dimension) {
+            (Runs::D2(r), 2) => {
+                let (_, saved): (SceneConfig, Saved<2>) =
+                    bincode::deserialize(bytes).map_err(bad)?;
+                (r.state, r.prev, r.rewind) = (saved.state, saved.prev, saved.rewind);
+                r.refresh_scheme(&sim.eff)?;
+                (saved.inputs, saved.t_comm, saved.exact, saved.inputs_time)
+            }
+            (Runs::D3(r), 3) => {
+                let (_, saved): (SceneConfig, Saved<3>) =
+                    bincode::deserialize(bytes).map_err(bad)?;
+                (r.state, r.prev, r.rewind) = (saved.state, saved.prev, saved.rewind);
+                r.refresh_scheme(&sim.eff)?;
+                (saved.inputs, saved.t_comm, saved.exact, saved.inputs_time)
+            }
+            _ => return Err(SimError::State(format!("no {dimension}D run to restore"))),
+        };
         sim.eff
-            .apply_inputs(&saved.inputs)
+            .apply_inputs(&inputs)
             .map_err(|e| SimError::State(e.to_string()))?;
-        sim.t_comm = saved.t_comm;
-        sim.prev = saved.prev;
-        sim.exact = saved.exact;
-        sim.rewind = saved.rewind;
-        sim.inputs_time = saved.inputs_time;
+        sim.t_comm = t_comm;
+        sim.exact = exact;
+        sim.inputs_time = inputs_time;
         sim.stop = self.stop.take();
         *self = sim;
         Ok(())
-    }
-
-    /// A scheme built for the current state's walls, with no caches: for a state that replaced
-    /// the one the scheme stepped (restored, or rewound by an input change).
-    fn fresh_scheme(&self) -> Box<dyn Scheme> {
-        crate::scheme::build(
-            self.eff.scheme,
-            &self.eff.fluid,
-            &self.eff.numerics,
-            self.params.clone(),
-            &self.state.walls,
-        )
     }
 
     /// Back to the initial state of the same configuration (same thread pool).

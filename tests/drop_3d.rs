@@ -1,0 +1,255 @@
+//! The drop in three dimensions through the whole product (`dimension = 3`): a sphere on a
+//! plane plate of any inclination, under the weakly compressible schemes with dummy wall
+//! particles, measured by the outputs an FMU user reads. Short runs at 10 particles per
+//! diameter keep these in the suite; the resolution study is `viscosph bench`'s.
+
+mod common;
+
+use common::{i, r, s};
+use viscosph::config::Value;
+use viscosph::scene::SceneConfig;
+use viscosph::simulation::Simulation;
+
+const D: f64 = 0.02;
+const T_STAR: f64 = 0.02; // D / V
+
+/// A 3D drop (D = 2 cm, V = 1 m/s, the table's Oldroyd-B fluid unless `pairs` say otherwise),
+/// 10 particles per diameter, released just above the plate.
+fn cfg(pairs: &[(&str, Value)]) -> SceneConfig {
+    let mut c = SceneConfig::default();
+    c.set("dimension", i(3)).unwrap();
+    c.set("particles_per_diameter", i(10)).unwrap();
+    c.set("initial_drop_height", r(0.6 * D)).unwrap();
+    for (k, v) in pairs {
+        c.set(k, v.clone()).unwrap();
+    }
+    c.validate().unwrap();
+    c
+}
+
+/// The drop released just above the plate at the given inclination: the normal impact on a
+/// level plate (spread equal along and across) and the transverse symmetry on an incline.
+fn spread_after(c: SceneConfig, t_end: f64) -> (Simulation, viscosph::Outputs) {
+    let mut sim = Simulation::new(c).unwrap();
+    sim.advance_to(t_end).unwrap();
+    let o = sim.outputs();
+    (sim, o)
+}
+
+#[test]
+fn a_normal_impact_on_a_level_plate_spreads_equally_along_and_across() {
+    for scheme in ["wcsph", "pdri"] {
+        let c = cfg(&[("scheme", s(scheme)), ("rheology", s("newtonian"))]);
+        let (sim, o) = spread_after(c, 1.5 * T_STAR);
+        let sh = o.shared;
+        eprintln!(
+            "{scheme}: {} particles, W = {:.5} D along, {:.5} D across, H = {:.4} D, F_n = {:.4e} N",
+            sim.particle_count(),
+            sh.drop_width / D,
+            sh.drop_width_transverse / D,
+            sh.drop_height / D,
+            sh.wall_force_normal_total
+        );
+        assert_eq!(sim.dimension(), 3);
+        assert!(
+            sh.drop_width > 1.3 * D,
+            "the drop spread: W* = {}",
+            sh.drop_width / D
+        );
+        assert!(
+            (sh.drop_width / sh.drop_width_transverse - 1.0).abs() < 0.01,
+            "{scheme}: along {} vs across {}",
+            sh.drop_width,
+            sh.drop_width_transverse
+        );
+        // Per-depth outputs mean nothing in 3D: they hold 0 and the totals carry the values.
+        assert_eq!(sh.wall_force_normal, 0.0);
+        assert_eq!(sh.kinetic_energy, 0.0);
+        assert!(sh.kinetic_energy_total > 0.0);
+    }
+}
+
+#[test]
+fn on_an_inclined_plate_the_transverse_spread_is_symmetric_about_the_downhill_line() {
+    let c = cfg(&[
+        ("plate_inclination", r(30.0)),
+        ("initial_drop_height", r(0.7 * D)),
+        ("rheology", s("oldroyd_b")),
+    ]);
+    let (sim, o) = spread_after(c, 1.5 * T_STAR);
+    let st = sim.state_3d().unwrap();
+    let plate = st.plate().unwrap();
+    let across = plate.n.cross(&plate.t);
+    let b: Vec<f64> = st
+        .fluid
+        .x
+        .iter()
+        .map(|x| (x - plate.origin).dot(&across))
+        .collect();
+    let (lo, hi) = b
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(l, h), v| (l.min(*v), h.max(*v)));
+    let mean = b.iter().sum::<f64>() / b.len() as f64;
+    let front = o.shared.spread_front;
+    eprintln!(
+        "30 deg: across {lo:.6} .. {hi:.6} m (mean {mean:.3e}), downhill front {front:.5} m, back {:.5} m",
+        o.shared.spread_back
+    );
+    assert!(hi - lo > 1.1 * D, "the drop spread across: {}", hi - lo);
+    assert!(
+        (hi + lo).abs() < 0.01 * (hi - lo),
+        "spread {lo} .. {hi} about the downhill line"
+    );
+    assert!(
+        mean.abs() < 1e-3 * D,
+        "centroid {mean} m off the downhill line"
+    );
+    // Downhill: the drop runs further down than up the incline.
+    assert!(o.shared.spread_front > o.shared.spread_back);
+}
+
+/// The plate's normal impulse against the drop's momentum (Newton's second law over the run):
+/// the time integral of `wall_force_normal_total` [N] equals the fluid's loss of momentum into
+/// the plate plus its weight's impulse into the plate, within 2 %.
+fn impulse_balance(c: SceneConfig, n: usize, t_end: f64) -> (f64, f64) {
+    let depth = c.depth();
+    let mut sim = Simulation::new(c).unwrap();
+    let momentum = |sim: &Simulation| match sim.state_3d() {
+        Some(st) => {
+            let p = sim.fluid_momentum_3d().unwrap();
+            p.dot(&st.plate().unwrap().n)
+        }
+        None => sim.fluid_momentum().dot(&sim.state().plate().unwrap().n) * depth,
+    };
+    let weight = |sim: &Simulation| match sim.state_3d() {
+        Some(st) => sim.fluid_mass() * 9.81 * st.plate().unwrap().n.z,
+        None => sim.fluid_mass() * 9.81 * sim.state().plate().unwrap().n.y * depth,
+    };
+    let p0 = momentum(&sim);
+    let dt = t_end / n as f64;
+    let mut prev = sim.outputs().shared.wall_force_normal_total;
+    let mut integral = 0.0;
+    for k in 1..=n {
+        sim.advance_to(k as f64 * dt).unwrap();
+        let f = sim.outputs().shared.wall_force_normal_total;
+        integral += 0.5 * dt * (f + prev);
+        prev = f;
+    }
+    // Along n: dP/dt = F_n - M g n_z (the plate pushes the fluid along n as hard as the fluid
+    // pushes it along -n), so int F_n dt = (P1 - P0) + M g n_z t.
+    let want = (momentum(&sim) - p0) + weight(&sim) * sim.time();
+    (integral, want)
+}
+
+#[test]
+fn the_normal_impulse_on_the_plate_balances_the_momentum_in_3d_and_in_2d_with_depth() {
+    for (dimension, ppd, depth) in [(3, 10, 0.0), (2, 20, 0.0), (2, 20, 0.05)] {
+        let c = cfg(&[
+            ("dimension", i(dimension)),
+            ("particles_per_diameter", i(ppd)),
+            ("plate_inclination", r(20.0)),
+            ("initial_drop_height", r(0.7 * D)),
+            ("rheology", s("newtonian")),
+            ("depth", r(depth)),
+        ]);
+        let (got, want) = impulse_balance(c, 600, 1.5 * T_STAR);
+        eprintln!("{dimension}D, depth {depth}: int F_n dt = {got:.6e} N s, momentum balance {want:.6e} N s");
+        assert!(want > 1e-5, "the plate took an impulse: {want}");
+        assert!((got - want).abs() < 0.02 * want, "{got} vs {want}");
+    }
+}
+
+#[test]
+fn a_3d_run_is_bitwise_the_same_on_one_and_two_threads() {
+    let run = |threads: i64| {
+        let c = cfg(&[
+            ("threads", i(threads)),
+            ("scheme", s("pdri")),
+            ("plate_inclination", r(10.0)),
+            ("initial_drop_height", r(0.7 * D)),
+        ]);
+        let mut sim = Simulation::new(c).unwrap();
+        sim.advance_to(0.5 * T_STAR).unwrap();
+        assert_eq!(sim.threads(), threads as usize);
+        let bits: Vec<u64> = sim.outputs().values().iter().map(|v| v.to_bits()).collect();
+        (sim.state_3d().unwrap().clone(), bits)
+    };
+    let (a, b) = (run(1), run(2));
+    assert!(a.0.step > 10);
+    assert!(a.0 == b.0, "the 3D states differ between 1 and 2 threads");
+    assert_eq!(a.1, b.1);
+}
+
+#[test]
+fn a_3d_run_follows_the_plate_input_and_restores_bitwise() {
+    let c = cfg(&[("rheology", s("giesekus")), ("plate_velocity", r(0.0))]);
+    let mut sim = Simulation::new(c).unwrap();
+    sim.advance_to(0.2 * T_STAR).unwrap();
+    // The plate driven into the drop at 0.5 m/s from here on.
+    let inputs = sim.inputs().with("plate_velocity", -0.5);
+    sim.set_inputs(inputs).unwrap();
+    sim.advance_to(0.4 * T_STAR).unwrap();
+    let saved = sim.save_state();
+    sim.advance_to(0.8 * T_STAR).unwrap();
+    let (o1, st1) = (sim.outputs(), sim.state_3d().unwrap().clone());
+    let moved = o1.shared.plate_displacement;
+    assert!(
+        (moved - (-0.5) * 0.6 * T_STAR).abs() < 1e-9,
+        "the plate moved {moved} m along -n"
+    );
+    let mut other = Simulation::new(cfg(&[])).unwrap();
+    other.restore_state(&saved).unwrap();
+    other.advance_to(0.8 * T_STAR).unwrap();
+    let st2 = other.state_3d().unwrap();
+    eprintln!(
+        "restored: time {} vs {}, step {} vs {}, x {}, v {}, rho {}, conf {}, walls {}, force {}",
+        st2.time,
+        st1.time,
+        st2.step,
+        st1.step,
+        st2.fluid.x == st1.fluid.x,
+        st2.fluid.v == st1.fluid.v,
+        st2.fluid.rho == st1.fluid.rho,
+        st2.fluid.conf == st1.fluid.conf,
+        st2.walls == st1.walls,
+        st2.wall_force == st1.wall_force
+    );
+    assert!(st2 == &st1, "restored run differs");
+    assert_eq!(
+        other
+            .outputs()
+            .values()
+            .iter()
+            .map(|v| v.to_bits())
+            .collect::<Vec<_>>(),
+        o1.values().iter().map(|v| v.to_bits()).collect::<Vec<_>>()
+    );
+}
+
+#[test]
+fn dimension_3_refuses_what_has_no_3d_form_by_name() {
+    let refusal = |pairs: &[(&str, Value)]| {
+        let mut c = SceneConfig::default();
+        c.set("dimension", i(3)).unwrap();
+        for (k, v) in pairs {
+            c.set(k, v.clone()).unwrap();
+        }
+        Simulation::validate(&c).unwrap_err().to_string()
+    };
+    let e = refusal(&[("scheme", s("isph"))]);
+    assert!(e.contains("dimension = 3") && e.contains("isph"), "{e}");
+    let e = refusal(&[("scene", s("channel"))]);
+    assert!(e.contains("'channel'") && e.contains("'drop'"), "{e}");
+    let e = refusal(&[("wall_boundary", s("image"))]);
+    assert!(
+        e.contains("wall_boundary = image") && e.contains("dummy"),
+        "{e}"
+    );
+    let e = refusal(&[("wall_boundary", s("ghost"))]);
+    assert!(e.contains("wall_boundary = ghost"), "{e}");
+    let mut c = SceneConfig::default();
+    c.set("dimension", i(3)).unwrap();
+    c.set("wall_boundary", s("dummy")).unwrap();
+    Simulation::validate(&c).unwrap();
+    assert!(SceneConfig::default().set("dimension", i(4)).is_err());
+}
