@@ -20,6 +20,7 @@ use crate::budget::Budget;
 use crate::config::{ConfigError, PlateCoupling};
 use crate::diagnostics::pressure_roughness;
 use crate::kernel::CubicSpline;
+use crate::profile::Profile;
 use crate::scene::{Inputs, Outputs, Scene, SceneConfig};
 use crate::scheme::params::Params;
 use crate::scheme::{Scheme, Timings};
@@ -98,6 +99,8 @@ pub struct Simulation {
     /// `plate_coupling = position` the plate's target `plate_position + plate_velocity (t -
     /// inputs_time)` is extrapolated from it.
     inputs_time: f64,
+    /// Timers of the work around the scheme's steps (off unless [`Simulation::set_profiling`]).
+    profile: Profile,
 }
 
 /// Inputs a scene can take: a plate velocity only where there is a plate to move.
@@ -236,6 +239,7 @@ impl Simulation {
             rewind: None,
             stop: None,
             inputs_time: 0.0,
+            profile: Profile::default(),
         })
     }
 
@@ -433,6 +437,7 @@ impl Simulation {
                 return Err(err);
             }
             taken += 1;
+            let t_begin = self.profile.start();
             let before = self.state.clone();
             let max_dt = if self.exact {
                 t_end - self.state.time
@@ -440,8 +445,10 @@ impl Simulation {
                 f64::INFINITY
             };
             self.scene.before_step(&self.eff, &mut self.state);
+            let t = self.profile.lap(t_begin, "state copy, scene hook", true);
             match self.scheme.step(&mut self.state, max_dt) {
                 Ok(dt) => {
+                    self.profile.lap(t, "scheme step", false);
                     self.state.step += 1;
                     self.state.time = if dt >= max_dt {
                         t_end
@@ -453,6 +460,7 @@ impl Simulation {
                         wall.advance(t, dt);
                     }
                     last_before = Some(before);
+                    self.profile.step(t_begin);
                 }
                 Err(cause) => {
                     let err = SimError::Breakdown {
@@ -539,6 +547,35 @@ impl Simulation {
         self.scheme.timings()
     }
 
+    /// Turn the per-pass timers of the steps on or off (see [`crate::profile`]); off by
+    /// default, and nothing is timed while off.
+    pub fn set_profiling(&mut self, on: bool) {
+        self.profile.enable(on);
+        self.scheme.set_profiling(on);
+    }
+
+    /// Where the time of the steps went since profiling was turned on: the scheme's passes and
+    /// the work around them (the copy of the state kept for interpolation, the scene's hook),
+    /// the whole steps as the total. Empty while profiling is off.
+    pub fn timings(&self) -> Timings {
+        let around = self.profile.timings();
+        let mut t = self.scheme.timings();
+        // What the scheme's own parts leave of its steps (ISPH times only its solves), counted
+        // as serial: unaccounted time is not known to spread over the threads.
+        if let Some(step) = around.parts.iter().find(|p| p.name == "scheme step") {
+            let wall = step.wall - t.parts.iter().map(|p| p.wall).sum::<f64>();
+            let cpu = step.cpu - t.parts.iter().map(|p| p.cpu).sum::<f64>();
+            t.add("scheme step, not timed", true, wall.max(0.0), cpu.max(0.0));
+        }
+        for p in around.parts.iter().filter(|p| p.name != "scheme step") {
+            t.add(p.name, p.serial, p.wall, p.cpu);
+        }
+        t.total = around.total;
+        t.total_cpu = around.total_cpu;
+        t.steps = around.steps;
+        t
+    }
+
     /// Positions of the wall particles currently built.
     pub fn wall_positions(&self) -> Vec<Vec2> {
         self.scheme.wall_positions(&self.state)
@@ -587,13 +624,15 @@ impl Simulation {
     /// A scheme built for the current state's walls, with no caches: for a state that replaced
     /// the one the scheme stepped (restored, or rewound by an input change).
     fn fresh_scheme(&self) -> Box<dyn Scheme> {
-        crate::scheme::build(
+        let mut scheme = crate::scheme::build(
             self.eff.scheme,
             &self.eff.fluid,
             &self.eff.numerics,
             self.params.clone(),
             &self.state.walls,
-        )
+        );
+        scheme.set_profiling(self.profile.start().is_some());
+        scheme
     }
 
     /// Back to the initial state of the same configuration (same thread pool).
