@@ -100,7 +100,9 @@ impl Timings {
     /// that is the work itself, while the wall clock also counts the time other processes hold
     /// the core (on a loaded machine, most of it); from a run on one thread, this is Amdahl's s.
     pub fn serial_share(&self) -> f64 {
-        if self.total_cpu > 0.0 {
+        // CPU time per part only if every part has it (ISPH times its solves' wall clock only).
+        let cpu_per_part = self.parts.iter().all(|p| p.cpu > 0.0 || p.wall == 0.0);
+        if self.total_cpu > 0.0 && cpu_per_part {
             let timed: f64 = self.parts.iter().map(|p| p.cpu).sum();
             let serial: f64 = self.parts.iter().filter(|p| p.serial).map(|p| p.cpu).sum();
             ((serial + (self.total_cpu - timed).max(0.0)) / self.total_cpu).min(1.0)
@@ -127,6 +129,26 @@ impl Timings {
         }
     }
 
+    /// What was timed after `earlier` (an earlier reading of the same timers), part by part.
+    pub fn since(&self, earlier: &Timings) -> Timings {
+        let mut t = Timings {
+            total: self.total - earlier.total,
+            total_cpu: self.total_cpu - earlier.total_cpu,
+            steps: self.steps - earlier.steps.min(self.steps),
+            parts: Vec::new(),
+        };
+        for p in &self.parts {
+            let before = earlier.parts.iter().find(|q| q.name == p.name);
+            t.add(
+                p.name,
+                p.serial,
+                p.wall - before.map_or(0.0, |q| q.wall),
+                p.cpu - before.map_or(0.0, |q| q.cpu),
+            );
+        }
+        t
+    }
+
     /// Sum of `self` and `other`, part by part.
     pub fn merged(mut self, other: &Timings) -> Timings {
         self.total += other.total;
@@ -145,8 +167,10 @@ impl Timings {
             "{:<38} {:>10} {:>10} {:>7} {:>8}  {}\n",
             "part", "wall [s]", "CPU [s]", "share", "CPU/wall", "runs on"
         );
-        // Shares of the CPU time where there is one (see `serial_share`), else of the wall time.
-        let by_cpu = self.total_cpu > 0.0;
+        // Shares of the CPU time where every part has one (see `serial_share`), else of the
+        // wall time.
+        let by_cpu =
+            self.total_cpu > 0.0 && self.parts.iter().all(|p| p.cpu > 0.0 || p.wall == 0.0);
         let row = |name: &str, wall: f64, cpu: f64, serial: Option<bool>| {
             format!(
                 "{:<38} {:>10.4} {:>10.4} {:>6.2}% {:>8.2}  {}\n",
@@ -272,6 +296,21 @@ mod tests {
         // Without a CPU clock, in wall time: (2 + 1) / 10.
         t.total_cpu = 0.0;
         assert!((t.serial_share() - 0.3).abs() < 1e-15);
+    }
+
+    #[test]
+    fn since_subtracts_part_by_part_and_a_part_without_cpu_falls_back_to_wall() {
+        let mut a = Timings::default();
+        a.add("solve", false, 1.0, 0.0);
+        let mut b = a.clone();
+        b.total = 4.0;
+        b.total_cpu = 4.0;
+        b.add("solve", false, 2.0, 0.0);
+        b.add("rest", true, 1.0, 1.0);
+        let d = b.since(&a);
+        assert_eq!((d.part("solve"), d.part("rest")), (2.0, 1.0));
+        // "solve" has no CPU time: the share is in wall time, (1 + untimed 1) / 4.
+        assert!((d.serial_share() - 0.5).abs() < 1e-15);
     }
 
     #[test]
