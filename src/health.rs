@@ -9,19 +9,31 @@
 //! occupied cells is the void fraction. An intact fluid at a cell side of about two particle
 //! spacings has none (every cell holds several particles); a torn one has a large fraction.
 
+use rayon::prelude::*;
+
+/// Smallest number of points per parallel task.
+const MIN_TASK: usize = 1024;
+
 /// Void fraction of a point set given in a frame where the wall, if any, lies along `y = 0`
 /// below the fluid (`wall_below`), with cells of side `cell`.
 pub fn void_fraction(points: &[(f64, f64)], cell: f64, wall_below: bool) -> f64 {
     if points.len() < 4 {
         return 0.0;
     }
-    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-    for &(x, y) in points {
-        x0 = x0.min(x);
-        x1 = x1.max(x);
-        y0 = y0.min(y);
-        y1 = y1.max(y);
-    }
+    // The bounding box and the cell of every point in parallel (a minimum, a maximum and a
+    // per-point cell do not depend on the order); the marking and the flood fill after them
+    // run on one thread.
+    let (x0, x1, y0, y1) = points
+        .par_iter()
+        .with_min_len(MIN_TASK)
+        .fold(
+            || (f64::MAX, f64::MIN, f64::MAX, f64::MIN),
+            |(x0, x1, y0, y1), &(x, y)| (x0.min(x), x1.max(x), y0.min(y), y1.max(y)),
+        )
+        .reduce(
+            || (f64::MAX, f64::MIN, f64::MAX, f64::MIN),
+            |a, b| (a.0.min(b.0), a.1.max(b.1), a.2.min(b.2), a.3.max(b.3)),
+        );
     // One empty cell of margin all round.
     let nx = ((x1 - x0) / cell).floor() as usize + 3;
     let ny = ((y1 - y0) / cell).floor() as usize + 3;
@@ -35,8 +47,13 @@ pub fn void_fraction(points: &[(f64, f64)], cell: f64, wall_below: bool) -> f64 
     };
     // 0 = empty, 1 = fluid, 2 = reached from outside
     let mut grid = vec![0u8; nx * ny];
-    for &(x, y) in points {
-        grid[idx(x, y)] = 1;
+    let cells: Vec<usize> = points
+        .par_iter()
+        .with_min_len(MIN_TASK)
+        .map(|&(x, y)| idx(x, y))
+        .collect();
+    for c in cells {
+        grid[c] = 1;
     }
     let mut stack = Vec::new();
     for i in 0..nx {

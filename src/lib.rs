@@ -23,6 +23,7 @@ pub mod kernel;
 pub mod neighbors;
 pub mod operators;
 pub mod particles;
+pub mod profile;
 pub mod rheology;
 pub mod scene;
 pub mod scheme;

@@ -1,6 +1,6 @@
 //! Benchmarks: `viscosph bench <what>`. Speed is measured here, never by timed assertions in tests.
 //!
-//! One file per command under `bench/`: [`mod@drop`], [`throughput`], [`stability`], [`accuracy`]
+//! One file per command under `bench/`: [`mod@drop`], [`throughput`], [`scaling`], [`stability`], [`accuracy`]
 //! (with `replot`), [`rheologies`], [`jet`], [`channel`], [`isph`] and [`report`]; here are the
 //! arguments, the dispatch and what several commands share (cases, the convergence order, the
 //! machine description).
@@ -15,6 +15,7 @@ pub mod isph;
 pub mod jet;
 pub mod report;
 pub mod rheologies;
+pub mod scaling;
 pub mod stability;
 pub mod throughput;
 
@@ -44,6 +45,10 @@ pub enum BenchKind {
     Drop,
     /// Particle-steps per second on 1 and 2 threads at 10^3..10^6 particles, FMU overhead.
     Throughput,
+    /// Threads 1 to the cores x sizes (WCSPH 10^4..10^6, ISPH 10^3..10^5 particles): speed-up,
+    /// efficiency, the serial share of a step from the per-pass timers and its Amdahl
+    /// projection to 16 threads.
+    Scaling,
     /// Stability maps: sweeps of De, beta, inclination, impact velocity and resolution.
     Stability(stability::StabilityArgs),
     /// Error against run time for every scheme on problems with a trustworthy reference.
@@ -80,6 +85,7 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
     let stem = match args.what {
         BenchKind::Drop => Some("drop"),
         BenchKind::Throughput => Some("throughput"),
+        BenchKind::Scaling => Some("scaling"),
         BenchKind::Stability(_) => Some("stability"),
         BenchKind::Accuracy => Some("accuracy"),
         BenchKind::Rheologies => Some("rheologies"),
@@ -91,6 +97,7 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
     let report = match args.what {
         BenchKind::Drop => drop::bench_drop(&args.out, args.quick)?,
         BenchKind::Throughput => throughput::bench_throughput(&args.out, args.quick)?,
+        BenchKind::Scaling => scaling::bench_scaling(&args.out, args.quick)?,
         BenchKind::Stability(ref a) => stability::bench_stability(a, &args.out, args.quick)?,
         BenchKind::Accuracy => accuracy::bench_accuracy(&args.out, args.quick)?,
         BenchKind::Rheologies => rheologies::bench_rheologies(&args.out, args.quick)?,

@@ -42,6 +42,10 @@ enum Command {
         /// Run even if the run would take more than 10^8 steps.
         #[arg(long)]
         force: bool,
+        /// Time every pass of the steps (wall and CPU seconds, which parts run on one thread)
+        /// and print the table at the end.
+        #[arg(long)]
+        profile: bool,
     },
     /// Print the default scene file with every parameter.
     DefaultScene,
@@ -67,6 +71,7 @@ fn main() -> ExitCode {
             t_end,
             output_interval,
             force,
+            profile,
         } => {
             let cfg = match scene {
                 Some(path) => match std::fs::read_to_string(&path)
@@ -95,6 +100,7 @@ fn main() -> ExitCode {
             opts.out_dir = Some(out.clone());
             opts.progress = std::io::stderr().is_terminal();
             opts.force = force;
+            opts.profile = profile;
             // SIGINT (Ctrl-C) and SIGTERM: stop at the next step, write the files, exit 130.
             let stop = Arc::new(AtomicBool::new(false));
             let flag = stop.clone();
@@ -133,6 +139,16 @@ fn main() -> ExitCode {
                     }
                     for line in &r.summary {
                         println!("{line}");
+                    }
+                    if profile {
+                        println!(
+                            "\nwhere the steps' time went ({} thread(s); shares of the CPU time):\n{}between the steps \
+                             (outputs, snapshots): {:.3} s wall, {:.3} s CPU",
+                            r.threads,
+                            r.timings.table(),
+                            r.between_steps.0,
+                            r.between_steps.1
+                        );
                     }
                     if let Some(e) = r.error {
                         eprintln!("error: {e}");

@@ -23,6 +23,9 @@ pub struct RunOptions {
     pub force: bool,
     /// Set (by a signal handler) to stop the run at its next step; the files are still written.
     pub stop: Option<Arc<AtomicBool>>,
+    /// Time every pass of the steps (`viscosph run --profile`, the scaling benchmark): the
+    /// result's `timings`.
+    pub profile: bool,
 }
 
 /// Estimated step counts above this are refused without `force` (the library's rule, shared
@@ -63,6 +66,7 @@ impl RunOptions {
             progress: false,
             force: false,
             stop: None,
+            profile: false,
         }
     }
 }
@@ -192,6 +196,14 @@ pub struct RunResult {
     pub state: Option<viscosph::State>,
     /// Stopped by [`RunOptions::stop`] (a signal) before `t_end`, at this time.
     pub interrupted: Option<f64>,
+    /// With [`RunOptions::profile`]: where the time of the steps went, per pass (empty
+    /// otherwise).
+    pub timings: viscosph::scheme::Timings,
+    /// With [`RunOptions::profile`]: wall and CPU seconds between the steps (outputs, snapshots,
+    /// files written during the run).
+    pub between_steps: (f64, f64),
+    /// Threads of the run's pool.
+    pub threads: usize,
 }
 
 impl RunResult {
@@ -355,6 +367,8 @@ pub fn run(
     predictions: &dyn Predictions,
 ) -> Result<RunResult, Box<dyn std::error::Error>> {
     let mut sim = Simulation::new(cfg.clone())?;
+    sim.set_profiling(opts.profile);
+    let mut between = (0.0, 0.0);
     let ts = sim.scene().time_scale(sim.effective_config());
     let n_out = (opts.t_end / opts.output_interval).round().max(1.0) as usize;
     let snap_every = (n_out / opts.snapshots.max(1)).max(1);
@@ -428,6 +442,7 @@ pub fn run(
             }
             Ok(false) => {}
         }
+        let t_out = opts.profile.then(viscosph::profile::Stamp::now);
         let o = sim.outputs();
         series.push((sim.time(), o));
         if k % snap_every == 0 {
@@ -443,6 +458,11 @@ pub fn run(
                 t / ts,
                 o.shared.drop_width / reference_length
             ));
+        }
+        if let Some(t) = t_out {
+            let (wall, cpu) = t.elapsed();
+            between.0 += wall;
+            between.1 += cpu;
         }
     }
     if error.is_some() || interrupted.is_some() {
@@ -486,6 +506,9 @@ pub fn run(
         summary,
         state: sim.state_3d().is_none().then(|| sim.state().clone()),
         interrupted,
+        timings: sim.timings(),
+        between_steps: between,
+        threads: sim.threads(),
     };
     if let Some(d) = &opts.out_dir {
         let path = d.join("timeseries.csv");

@@ -268,3 +268,34 @@ fn jet_bench() {
         assert!(r.1 > 0.1025 && r.2 > 0.1025, "{r:?}");
     }
 }
+
+/// `bench scaling --quick`: every case runs on every thread count from one to the cores, one
+/// thread is the reference (speed-up 1), and the serial share from the pass timers is a share
+/// whose Amdahl projection is an efficiency.
+#[test]
+fn scaling_rows_and_serial_share() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path();
+    let md = bench(&["scaling"], out);
+    assert!(
+        md.contains("Per pass") && md.contains("serial share of a step"),
+        "{md}"
+    );
+    let (h, rows) = csv(&out.join("scaling.csv"));
+    assert_eq!(h[0], "case");
+    let cores = std::thread::available_parallelism().unwrap().get();
+    assert_eq!(
+        rows.len(),
+        4 * cores,
+        "two WCSPH and two ISPH sizes per thread count"
+    );
+    for r in &rows {
+        let (threads, speed_up): (usize, f64) = (r[2].parse().unwrap(), r[5].parse().unwrap());
+        let (share, amdahl): (f64, f64) = (r[8].parse().unwrap(), r[9].parse().unwrap());
+        if threads == 1 {
+            assert_eq!(speed_up, 1.0, "{r:?}");
+        }
+        assert!(speed_up > 0.0 && (0.0..=1.0).contains(&share), "{r:?}");
+        assert!(amdahl > 0.0 && amdahl <= 1.0, "{r:?}");
+    }
+}

@@ -212,6 +212,37 @@ pub struct NeighborList {
     points: usize,
 }
 
+/// For each chunk of query points (in order), the number of points within `radius` of each
+/// query and their indices, ascending per query; `delta(p, q)` is x_p - x_q.
+fn candidates_within<const N: usize>(
+    grid: &Grid<N>,
+    points: &[Vector<N>],
+    queries: &[Vector<N>],
+    radius: f64,
+    delta: impl Fn(&Vector<N>, &Vector<N>) -> Vector<N> + Sync,
+) -> Vec<(Vec<u32>, Vec<u32>)> {
+    let r2 = radius * radius;
+    const CHUNK: usize = 512;
+    queries
+        .par_chunks(CHUNK)
+        .map(|chunk| {
+            let mut counts = Vec::with_capacity(chunk.len());
+            let mut idx = Vec::with_capacity(chunk.len() * 40);
+            for q in chunk {
+                let before = idx.len();
+                grid.for_each_candidate(q, |j| {
+                    if delta(&points[j as usize], q).norm_squared() <= r2 {
+                        idx.push(j);
+                    }
+                });
+                idx[before..].sort_unstable();
+                counts.push((idx.len() - before) as u32);
+            }
+            (counts, idx)
+        })
+        .collect()
+}
+
 impl NeighborList {
     /// Lists for every query point of the points within `radius`, using `grid` built over
     /// `points` with a cell side >= radius. Runs in parallel over chunks of query points and
@@ -223,32 +254,15 @@ impl NeighborList {
         radius: f64,
         dom: &Domain,
     ) -> Self {
-        let r2 = radius * radius;
         // In an open domain x_ij is the plain difference (bitwise what `delta` returns): the
-        // test below runs for every candidate pair, and the per-axis period checks cost as much
-        // as the distance itself (callgrind: a fifth of the neighbour search of a drop).
-        let open = !dom.is_periodic();
-        const CHUNK: usize = 512;
-        let parts: Vec<(Vec<u32>, Vec<u32>)> = queries
-            .par_chunks(CHUNK)
-            .map(|chunk| {
-                let mut counts = Vec::with_capacity(chunk.len());
-                let mut idx = Vec::with_capacity(chunk.len() * 40);
-                for q in chunk {
-                    let before = idx.len();
-                    grid.for_each_candidate(q, |j| {
-                        let p = &points[j as usize];
-                        let d = if open { p - q } else { dom.delta(p, q) };
-                        if d.norm_squared() <= r2 {
-                            idx.push(j);
-                        }
-                    });
-                    idx[before..].sort_unstable();
-                    counts.push((idx.len() - before) as u32);
-                }
-                (counts, idx)
-            })
-            .collect();
+        // test runs for every candidate pair, and the per-axis period checks cost as much as the
+        // distance itself (callgrind: a fifth of the neighbour search of a drop). Each case is
+        // its own instance of the candidate loop, with no test of the domain inside it.
+        let parts = if dom.is_periodic() {
+            candidates_within(grid, points, queries, radius, |p, q| dom.delta(p, q))
+        } else {
+            candidates_within(grid, points, queries, radius, |p, q| p - q)
+        };
         let mut start = Vec::with_capacity(queries.len() + 1);
         start.push(0u32);
         let total: usize = parts.iter().map(|p| p.1.len()).sum();
@@ -295,6 +309,23 @@ impl NeighborList {
         let mut out = Vec::with_capacity(self.len());
         for w in self.start.windows(2) {
             let (head, tail) = buf.split_at_mut((w[1] - w[0]) as usize);
+            out.push(head);
+            buf = tail;
+        }
+        out
+    }
+
+    /// Split `buf` (one entry per stored pair) into one slice per run of `chunk` consecutive
+    /// query points (the last run may be shorter): the pair data of a run are contiguous, so a
+    /// pass can give each parallel task a run and slice it per point with [`Self::offset`].
+    pub fn split_chunks_mut<'a, T>(&self, mut buf: &'a mut [T], chunk: usize) -> Vec<&'a mut [T]> {
+        assert_eq!(buf.len(), self.idx.len());
+        assert!(chunk > 0);
+        let n = self.len();
+        let mut out = Vec::with_capacity(n.div_ceil(chunk));
+        for from in (0..n).step_by(chunk) {
+            let to = (from + chunk).min(n);
+            let (head, tail) = buf.split_at_mut((self.start[to] - self.start[from]) as usize);
             out.push(head);
             buf = tail;
         }

@@ -93,7 +93,9 @@ pub fn check_particles<const N: usize>(
             "non-finite value (NaN or Inf) on fluid particle {i}"
         ));
     }
-    for i in 0..fl.len() {
+    // Particle by particle in parallel; the first offender by index, as a sequential loop
+    // would find it, whatever the thread count.
+    let fault = |i: usize| -> Option<String> {
         if let Some(eos) = eos {
             let dev = fl.rho[i] / eos.rho0 - 1.0;
             if dev.abs() > MAX_DENSITY_DEVIATION {
@@ -102,7 +104,7 @@ pub fn check_particles<const N: usize>(
                 // current one.
                 let vmax = fl.v.iter().fold(0.0f64, |m, v| m.max(v.norm()));
                 let advice = (10.0 * vmax).max(2.0 * eos.c);
-                return Err(format!(
+                return Some(format!(
                     "density of particle {i} is {:.1} % off the reference density (limit {:.0} \
                      %): the flow is too fast for the sound speed c = {} m/s (fastest particle \
                      {:.3} m/s); set sound_speed to at least {:.0} m/s",
@@ -115,16 +117,24 @@ pub fn check_particles<const N: usize>(
             }
         }
         if fl.x[i].norm() > domain_radius {
-            return Err(format!(
+            return Some(format!(
                 "particle {i} escaped the domain (|x| = {:.3e} m)",
                 fl.x[i].norm()
             ));
         }
         for pl in walls {
             if pl.signed_distance(&fl.x[i]) < -PENETRATION_DEPTH * dx {
-                return Err(format!("particle {i} went through the plate"));
+                return Some(format!("particle {i} went through the plate"));
             }
         }
+        None
+    };
+    if let Some(e) = (0..fl.len())
+        .into_par_iter()
+        .with_min_len(MIN_TASK_LIGHT)
+        .find_map_first(fault)
+    {
+        return Err(e);
     }
     Ok(())
 }
@@ -153,7 +163,11 @@ pub fn fluid_void_fraction(fl: &Fluid, plate: Option<&Plate>, walls: &[Wall], dx
         }
     }
     let pts: Vec<(f64, f64)> = match plate {
-        Some(pl) => x.iter().map(|x| (pl.s(x), pl.d(x))).collect(),
+        Some(pl) => x
+            .par_iter()
+            .with_min_len(MIN_TASK_LIGHT)
+            .map(|x| (pl.s(x), pl.d(x)))
+            .collect(),
         None => x.iter().map(|x| (x.x, x.y)).collect(),
     };
     crate::health::void_fraction(&pts, 2.0 * dx, plate.is_some())
@@ -181,6 +195,35 @@ mod tests {
             fl.conf.push(Mat2::identity());
         }
         (fl, vec![Plate::new(0.0, dx).into()])
+    }
+
+    /// The particle checks run in parallel: with offenders scattered over a fluid large enough
+    /// to be split between threads, the first by index is named, on one thread and on four.
+    #[test]
+    fn the_first_offender_is_named_whatever_the_threads() {
+        let dx = 0.01;
+        let mut fl = Fluid {
+            mass: 0.1,
+            ..Default::default()
+        };
+        for q in 0..20_000 {
+            fl.x.push(Vec2::new((q % 100) as f64 * dx, (q / 100) as f64 * dx));
+            fl.v.push(Vec2::zeros());
+            fl.rho.push(1000.0);
+        }
+        for (i, x) in [(17_001, 9.0), (9_500, 8.0), (15_000, 7.0)] {
+            fl.x[i].x = x;
+        }
+        for threads in [1, 4] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let e = pool
+                .install(|| check_particles(&fl, &[], dx, 5.0, false, None))
+                .unwrap_err();
+            assert!(e.contains("particle 9500 escaped"), "{threads}: {e}");
+        }
     }
 
     /// Every scheme's checks, in their order: a healthy state passes; a non-finite value names

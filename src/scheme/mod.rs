@@ -135,24 +135,9 @@ impl SchemeKind {
     }
 }
 
-/// Where a scheme's time went since it was built: wall seconds in whole steps and in the named
-/// parts it times (e.g. ISPH's pressure and viscous solves); empty for a scheme that times
-/// nothing.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct Timings {
-    pub total: f64,
-    pub parts: Vec<(&'static str, f64)>,
-}
-
-impl Timings {
-    /// Seconds spent in the part called `name` (0 if the scheme does not time it).
-    pub fn part(&self, name: &str) -> f64 {
-        self.parts
-            .iter()
-            .find(|(n, _)| *n == name)
-            .map_or(0.0, |p| p.1)
-    }
-}
+/// Where a scheme's time went since profiling was turned on: wall and CPU seconds per pass and
+/// per step (see [`crate::profile`]).
+pub use crate::profile::Timings;
 
 /// One SPH scheme instantiated for a concrete kernel and rheology, in N space dimensions
 /// (`Scheme` alone: two).
@@ -162,10 +147,13 @@ pub trait Scheme<const N: usize = 2>: Send {
     fn step(&mut self, state: &mut State<N>, max_dt: f64) -> Result<f64, String>;
     /// Positions of the virtual (wall) particles currently built for the walls of `state`.
     fn wall_positions(&self, state: &State<N>) -> Vec<crate::dim::Vector<N>>;
-    /// Where the time of the steps went (empty for schemes that time nothing).
+    /// Where the time of the steps went (empty for schemes that time nothing, or while
+    /// profiling is off).
     fn timings(&self) -> Timings {
         Timings::default()
     }
+    /// Turn the per-pass timers on or off (off by default: a step then reads no clock).
+    fn set_profiling(&mut self, _on: bool) {}
 }
 
 /// Build the scheme `kind` for the fluid and numerics of an effective configuration, with the

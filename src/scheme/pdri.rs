@@ -164,6 +164,7 @@ where
 {
     fn step(&mut self, st: &mut State<N>, max_dt: f64) -> Result<f64, String> {
         let c = &mut self.core;
+        let start = c.prof.start();
         c.refresh_neighbors(&st.fluid.x, &mut st.walls);
         let r0 = c.rates(&st.fluid, &st.walls);
         let per_wall0 = c.wall_on_fluid_per_wall(r0.wall_on_fluid, st.fluid.mass);
@@ -218,8 +219,19 @@ where
             self.core.refresh_neighbors(&st.fluid.x, &mut st.walls);
             self.reinitialise_density(&mut st.fluid);
         }
+        let t = self.core.prof.start();
         st.void_fraction = check_health::<R, _>(&self.core.p, st)?;
+        self.core.prof.lap(t, "health check", true);
+        self.core.prof.step(start);
         Ok(dt)
+    }
+
+    fn set_profiling(&mut self, on: bool) {
+        self.core.prof.enable(on);
+    }
+
+    fn timings(&self) -> super::Timings {
+        self.core.prof.timings()
     }
 
     fn wall_positions(&self, st: &State<N>) -> Vec<Vector<N>> {

@@ -32,7 +32,7 @@
 use super::health::check_health;
 use super::params::Params;
 use super::wc::{ghost_walls, WcCore, WcSpace};
-use super::Scheme;
+use super::{Scheme, Timings};
 use crate::boundary::ghost::{keep_out_of_wall, WallModel};
 use crate::boundary::wall::Wall;
 use crate::boundary::Boundary;
@@ -84,32 +84,37 @@ where
 {
     fn step(&mut self, st: &mut State<N>, max_dt: f64) -> Result<f64, String> {
         let c = &mut self.core;
+        let start = c.prof.start();
         c.refresh_neighbors(&st.fluid.x, &mut st.walls);
         let r0 = c.rates(&st.fluid, &st.walls);
+        let t = c.prof.start();
         let dt_stable = c.stable_dt(&st.fluid, &r0, c.p.dt_factor, true);
         let dt = dt_stable.min(max_dt);
         if dt.is_nan() || dt <= 0.0 {
             return Err(format!("time step collapsed to {dt:e} s"));
         }
         // Predictor, eq. (49): X^{n+1/2} = X^n + F^n dt/2.
+        let t = c.prof.lap(t, "time step", true);
         let fl = &st.fluid;
         c.update(&mut self.half, fl, &fl.v, &fl.conf, 0.5 * dt);
+        c.prof.lap(t, "update", false);
         c.refresh_neighbors(&self.half.x, &mut st.walls);
         let r1 = c.rates(&self.half, &st.walls);
         // Corrector, eq. (50): X^{n+1} = X^n + F^{n+1/2} dt.
+        let t = c.prof.start();
         c.update(&mut self.next, &st.fluid, &self.half.v, &self.half.conf, dt);
         std::mem::swap(&mut st.fluid, &mut self.next);
+        let t = c.prof.lap(t, "update", false);
         let mut contact = Vector::zeros();
         let mut per_wall = c.wall_on_fluid_per_wall(r1.wall_on_fluid, st.fluid.mass);
         // The plate's load by particle: minus the corrector's force of its virtual particles
         // on each, and the momentum its contact gives a particle over the step.
         let plate = st.plate;
-        let mut load: Vec<Vector<N>> = plate.map_or_else(Vec::new, |k| {
-            c.wall_on_particles(k, st.fluid.mass)
-                .iter()
-                .map(|f| -f)
-                .collect()
-        });
+        let mut load = std::mem::take(&mut st.plate_load);
+        match plate {
+            Some(k) => c.wall_load_into(k, st.fluid.mass, &mut load),
+            None => load.clear(),
+        }
         for (k, (wall, on_fluid)) in st.walls.iter().zip(per_wall.iter_mut()).enumerate() {
             let own = plate == Some(k);
             let (m, reflections) = keep_out_of_wall(&mut st.fluid, wall, |i, m| {
@@ -130,8 +135,19 @@ where
         st.wall_force = -r1.wall_on_fluid - contact / dt;
         st.wall_impulse += -r1.wall_on_fluid * dt - contact;
         st.last_dt = dt_stable;
+        let t = c.prof.lap(t, "wall forces and contact", true);
         st.void_fraction = check_health::<R, _>(&c.p, st)?;
+        c.prof.lap(t, "health check", true);
+        c.prof.step(start);
         Ok(dt)
+    }
+
+    fn set_profiling(&mut self, on: bool) {
+        self.core.prof.enable(on);
+    }
+
+    fn timings(&self) -> Timings {
+        self.core.prof.timings()
     }
 
     fn wall_positions(&self, st: &State<N>) -> Vec<Vector<N>> {

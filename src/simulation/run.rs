@@ -11,9 +11,10 @@ use crate::boundary::wall::Wall;
 use crate::budget::Budget;
 use crate::config::ConfigError;
 use crate::dim::{Const, Vector};
+use crate::profile::Profile;
 use crate::scene::{Inputs, Outputs, Scene, SceneConfig};
 use crate::scheme::params::Params;
-use crate::scheme::Scheme;
+use crate::scheme::{Scheme, Timings};
 use crate::state::State;
 use serde::{Deserialize, Serialize};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -117,6 +118,8 @@ pub struct Run<const N: usize> {
     /// In dense-output mode, the state before the last internal step (at or before the
     /// communication time), to go back to when an input changes there.
     pub rewind: Option<State<N>>,
+    /// Timers of the work around the scheme's steps (off unless `Simulation::set_profiling`).
+    pub profile: Profile,
 }
 
 /// A 2D or a 3D run.
@@ -179,6 +182,7 @@ where
             scheme,
             prev: None,
             rewind: None,
+            profile: Profile::default(),
         })
     }
 
@@ -186,6 +190,7 @@ where
     /// the one the scheme stepped (restored, or rewound by an input change).
     pub fn refresh_scheme(&mut self, eff: &SceneConfig) -> Result<(), SimError> {
         self.scheme = <Const<N> as Space<N>>::scheme(eff, &self.params, &self.state.walls)?;
+        self.scheme.set_profiling(self.profile.start().is_some());
         Ok(())
     }
 
@@ -244,6 +249,7 @@ where
                 return Err(err);
             }
             taken += 1;
+            let t_begin = self.profile.start();
             let before = self.state.clone();
             let max_dt = if d.exact {
                 t_end - self.state.time
@@ -251,8 +257,10 @@ where
                 f64::INFINITY
             };
             <Const<N> as Space<N>>::before_step(d.scene, d.eff, &mut self.state);
+            let t = self.profile.lap(t_begin, "state copy, scene hook", true);
             match self.scheme.step(&mut self.state, max_dt) {
                 Ok(dt) => {
+                    self.profile.lap(t, "scheme step", false);
                     self.state.step += 1;
                     self.state.time = if dt >= max_dt {
                         t_end
@@ -264,6 +272,7 @@ where
                         wall.advance(t, dt);
                     }
                     last_before = Some(before);
+                    self.profile.step(t_begin);
                 }
                 Err(cause) => {
                     let err = SimError::Breakdown {
@@ -285,6 +294,34 @@ where
         }
         *t_comm = t_end;
         Ok(())
+    }
+
+    /// Turn the per-pass timers of the steps on or off (see [`crate::profile`]).
+    pub fn set_profiling(&mut self, on: bool) {
+        self.profile.enable(on);
+        self.scheme.set_profiling(on);
+    }
+
+    /// Where the time of the steps went since profiling was turned on: the scheme's passes and
+    /// the work around them (the copy of the state kept for interpolation, the scene's hook),
+    /// the whole steps as the total. Empty while profiling is off.
+    pub fn timings(&self) -> Timings {
+        let around = self.profile.timings();
+        let mut t = self.scheme.timings();
+        // What the scheme's own parts leave of its steps (ISPH times only its solves), counted
+        // as serial: unaccounted time is not known to spread over the threads.
+        if let Some(step) = around.parts.iter().find(|p| p.name == "scheme step") {
+            let wall = step.wall - t.parts.iter().map(|p| p.wall).sum::<f64>();
+            let cpu = step.cpu - t.parts.iter().map(|p| p.cpu).sum::<f64>();
+            t.add("scheme step, not timed", true, wall.max(0.0), cpu.max(0.0));
+        }
+        for p in around.parts.iter().filter(|p| p.name != "scheme step") {
+            t.add(p.name, p.serial, p.wall, p.cpu);
+        }
+        t.total = around.total;
+        t.total_cpu = around.total_cpu;
+        t.steps = around.steps;
+        t
     }
 
     /// Total momentum of the fluid [kg m/s, per m depth in 2D].

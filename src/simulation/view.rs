@@ -75,6 +75,18 @@ impl Simulation {
         on_run!(&self.run, r => r.scheme.timings())
     }
 
+    /// Turn the per-pass timers of the steps on or off (see [`crate::profile`]); off by
+    /// default, and nothing is timed while off.
+    pub fn set_profiling(&mut self, on: bool) {
+        on_run!(&mut self.run, r => r.set_profiling(on))
+    }
+
+    /// Where the time of the steps went since profiling was turned on (see
+    /// [`Run::timings`](super::run::Run::timings)).
+    pub fn timings(&self) -> Timings {
+        on_run!(&self.run, r => r.timings())
+    }
+
     /// Positions of the wall particles of a 2D run currently built (empty in 3D: see
     /// [`Simulation::particles`]).
     pub fn wall_positions(&self) -> Vec<Vec2> {

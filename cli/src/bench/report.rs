@@ -40,6 +40,12 @@ pub const SECTIONS: &[Section] = &[
         pngs: &["throughput.png"],
     },
     Section {
+        title: "Scaling with the threads",
+        command: "viscosph bench scaling",
+        stem: "scaling",
+        pngs: &[],
+    },
+    Section {
         title: "Stability maps",
         command: "viscosph bench stability",
         stem: "stability",

@@ -24,17 +24,12 @@ pub fn peak_rss() -> Option<u64> {
     Some(kb * 1024)
 }
 
-/// CPU time this process has used so far, all threads, user and system \[s\], from
-/// `/proc/self/stat` (Linux; `None` elsewhere). On a machine shared with other work the wall
-/// clock counts the time others hold the cores; CPU time does not.
+/// CPU time this process has used so far, all threads \[s\] ([`viscosph::profile`]'s clock;
+/// `None` where the platform has none). On a machine shared with other work the wall clock
+/// counts the time others hold the cores; CPU time does not.
 pub fn process_cpu_seconds() -> Option<f64> {
-    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
-    // Fields after the parenthesised command name; utime and stime are fields 14 and 15, in
-    // USER_HZ = 100 ticks per second (fixed by the /proc ABI).
-    let rest = &stat[stat.rfind(')')? + 2..];
-    let f: Vec<&str> = rest.split_whitespace().collect();
-    let ticks: u64 = f.get(11)?.parse::<u64>().ok()? + f.get(12)?.parse::<u64>().ok()?;
-    Some(ticks as f64 / 100.0)
+    let s = viscosph::profile::process_cpu_seconds();
+    (s > 0.0).then_some(s)
 }
 
 /// One throughput measurement.

@@ -497,13 +497,13 @@ impl<R: Rheology> Scheme for Isph<R> {
     }
 
     fn timings(&self) -> super::Timings {
-        super::Timings {
+        let mut t = super::Timings {
             total: self.timings.total,
-            parts: vec![
-                ("pressure solve", self.timings.pressure_solve),
-                ("viscous solve", self.timings.viscous_solve),
-            ],
-        }
+            ..Default::default()
+        };
+        t.add("pressure solve", false, self.timings.pressure_solve, 0.0);
+        t.add("viscous solve", false, self.timings.viscous_solve, 0.0);
+        t
     }
 
     fn wall_positions(&self, st: &State) -> Vec<Vec2> {

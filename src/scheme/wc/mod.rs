@@ -35,6 +35,7 @@ use crate::operators::kinematics::Kinematics;
 use crate::operators::pairs::PairCache;
 use crate::operators::stress::{self, MORRIS_ETA2};
 use crate::particles::Fluid;
+use crate::profile::Profile;
 use crate::rheology::{self, Evss, Rheology};
 #[cfg(test)]
 use crate::{Mat2, Vec2};
@@ -147,6 +148,8 @@ pub struct WcCore<K: Kernel<N>, R: Rheology, const N: usize = 2> {
     /// the virtual particles give it) of each wall, wall by wall, so each wall's force is
     /// measured alone.
     wall_split: Vec<Vector<N>>,
+    /// Per-pass timers (off unless profiling: see [`crate::profile`]).
+    pub prof: Profile,
 }
 
 impl<K: Kernel<N>, R: Rheology, const N: usize> WcCore<K, R, N>
@@ -186,6 +189,7 @@ where
             acc: Vec::new(),
             wall_acc: Vec::new(),
             wall_split: Vec::new(),
+            prof: Profile::default(),
         }
     }
 
@@ -221,6 +225,23 @@ where
             .collect()
     }
 
+    /// Minus [`WcCore::wall_on_particles`], written into `out` (its earlier contents dropped,
+    /// its allocation kept): the load of each fluid particle on wall `wall` [N/m], built in one
+    /// pass at every step without a new vector.
+    pub fn wall_load_into(&self, wall: usize, mass: f64, out: &mut Vec<Vector<N>>) {
+        out.clear();
+        let nw = self.walls.len();
+        if nw <= 1 {
+            out.extend(self.wall_acc.iter().map(|a| -(a * mass)));
+        } else {
+            out.extend(
+                self.wall_split
+                    .chunks(nw)
+                    .map(|chunk| -(chunk[wall] * mass)),
+            );
+        }
+    }
+
     /// Whether the viscous force goes through Morris' Laplacian (EVSS, or chosen).
     fn laplacian(&self) -> bool {
         self.evss.is_on() || self.p.viscous_laplacian
@@ -236,6 +257,7 @@ where
         let half_skin = 0.5 * SKIN * self.kernel.h();
         let half_skin2 = half_skin * half_skin;
         let dom = self.p.domain;
+        let t = self.prof.start();
         let stale = self.built_x.len() != x.len()
             || self.built_walls.len() != plates.len()
             || plates
@@ -247,8 +269,10 @@ where
                 .with_min_len(MIN_TASK_LIGHT)
                 .any(|(a, b)| dom.delta(a, b).norm_squared() > half_skin2);
         if !stale {
+            self.prof.lap(t, "neighbours: staleness check", false);
             return;
         }
+        let t = self.prof.lap(t, "neighbours: staleness check", false);
         let radius = self.search_radius();
         let nf = x.len();
         self.all_x.clear();
@@ -263,13 +287,16 @@ where
                 self.wall_ranges.push(start..self.all_x.len());
             }
         }
+        let t = self.prof.lap(t, "neighbours: wall particles", true);
         let grid = Grid::build(&self.all_x, radius, &dom);
+        let t = self.prof.lap(t, "neighbours: grid", true);
         self.nlist = NeighborList::build(&grid, &self.all_x, x, radius, &dom);
         self.vlist = if self.art.needs_hessian() {
             NeighborList::build(&grid, &self.all_x, &self.all_x[nf..], radius, &dom)
         } else {
             NeighborList::default()
         };
+        let t = self.prof.lap(t, "neighbours: lists", false);
         self.built_x = x.to_vec();
         self.built_walls = plates.iter().map(|p| p.displacement()).collect();
         let n = self.all_x.len();
@@ -289,6 +316,7 @@ where
             .viscous_viscosity(self.model.solvent_viscosity(&Tensor::<N>::zeros()));
         self.all_mu.resize(n, mu);
         self.all_mu[nf..].fill(mu);
+        self.prof.lap(t, "neighbours: work arrays", true);
     }
 
     /// Fluid neighbours (and virtual ones, index >= number of fluid particles) of fluid particle
@@ -331,6 +359,7 @@ where
     /// (and the wall part).
     pub fn rates(&mut self, fl: &Fluid<N>, plates: &[Wall<N>]) -> StageReport<N> {
         let nf = fl.len();
+        let t = self.prof.start();
         self.all_x[..nf].copy_from_slice(&fl.x);
         for (((wall, plate), range), built) in self
             .walls
@@ -357,6 +386,9 @@ where
         for ((wall, plate), range) in self.walls.iter().zip(plates).zip(&self.wall_ranges) {
             wall.fill_velocities(plate, fl, &mut self.all_v[range.clone()]);
         }
+        let t = self
+            .prof
+            .lap(t, "rates: fluid and walls to work arrays", true);
         self.virtual_hessians(nf);
         if R::ELASTIC {
             let model = &self.model;
@@ -367,7 +399,11 @@ where
                 .with_min_len(MIN_TASK_LIGHT)
                 .for_each(|(t, a)| *t = model.polymer_stress(a));
         }
+        let t = self
+            .prof
+            .lap(t, "rates: wall Hessians, polymer stress", false);
         Const::<N>::pass1(self, fl);
+        let t = self.prof.lap(t, "pass 1", false);
         if R::ELASTIC && self.evss.is_on() {
             let evss = self.evss;
             self.tau_p
@@ -383,6 +419,7 @@ where
                 wall.fill_stresses(plate, fl, fsig, &self.tau_p, out);
             }
         }
+        let t = self.prof.lap(t, "rates: wall stresses", true);
         {
             let (art, rho0) = (&self.art, self.p.eos.rho0);
             let (vsig, vhess) = (&self.all_sigma[nf..], &self.all_hess[nf..]);
@@ -392,7 +429,9 @@ where
                 .enumerate()
                 .for_each(|(k, a)| *a = art.of_particle(&vsig[k], rho0, &vhess[k]));
         }
-        Const::<N>::pass2(self, fl)
+        let report = Const::<N>::pass2(self, fl);
+        self.prof.lap(t, "pass 2", false);
+        report
     }
 
     /// The time-step limits of Fang 2006 eqs. (51)-(53), each times `factor`: sound (with the
@@ -410,8 +449,11 @@ where
         let vmax = if with_flow_speed {
             // The largest squared speed, one square root: sqrt is correctly rounded and
             // monotone, so this is bitwise the largest of the norms, without a root per particle.
-            fl.v.iter()
-                .fold(0.0f64, |m, v| m.max(v.norm_squared()))
+            // The largest of a set does not depend on the order it is taken in: in parallel.
+            fl.v.par_iter()
+                .with_min_len(MIN_TASK_LIGHT)
+                .map(|v| v.norm_squared())
+                .reduce(|| 0.0f64, f64::max)
                 .sqrt()
         } else {
             0.0
@@ -517,6 +559,37 @@ where
     let sigma = stress::assemble(p.eos.pressure(rho), eta, kappa, tau, evss, laplacian);
     let art = art.of_particle(&sigma, rho, hess);
     (evss.viscous_viscosity(eta), sigma, art)
+}
+
+/// What pass 2 books for one fluid particle from `sum(from, to)`, the momentum rate of its
+/// cached pairs `from..to` (per unit mass; the fluid neighbours `0..split` of `jj`, then the
+/// virtual ones, ascending): the walls' force on it `wall_i`, with more than one wall each
+/// wall's share in `split_i` (the walls' virtual particles end at `wall_ends`), and its
+/// acceleration `acc_i` with gravity. The total keeps its one run over the virtual pairs; the
+/// shares sum the same pairs wall by wall.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn book_particle<const N: usize>(
+    sum: impl Fn(usize, usize) -> Vector<N>,
+    jj: &[u32],
+    split: usize,
+    wall_ends: &[u32],
+    mass: f64,
+    gravity: Vector<N>,
+    (acc_i, wall_i, split_i): (&mut Vector<N>, &mut Vector<N>, &mut [Vector<N>]),
+) {
+    let a = sum(0, split);
+    let aw = sum(split, jj.len());
+    *wall_i = aw * mass;
+    if wall_ends.len() > 1 {
+        let mut from = split;
+        for (s, &end) in split_i.iter_mut().zip(wall_ends) {
+            let to = from + jj[from..].partition_point(|&j| j < end);
+            *s = sum(from, to) * mass;
+            from = to;
+        }
+    }
+    *acc_i = (a + aw) * mass + gravity;
 }
 
 /// `out = base + rate * dt`, element by element, in parallel.

@@ -295,82 +295,100 @@ impl<K: Kernel, R: Rheology> WcCore<K, R, 2> {
         // Every index in the lists is below the number of points they were built over, which is
         // the number of records: the hot loops below read records unchecked.
         assert!(nlist.points() <= rec.len() && rec.len() == self.all_x.len());
-        let js = nlist.split_mut(&mut self.pairs.j);
-        let gs = nlist.split_mut(&mut self.pairs.grad);
-        let ps = nlist.split_mut(&mut self.pairs.pi);
-        let fs = nlist.split_mut(&mut self.pairs.f);
+        // One parallel task per run of TASK particles, a plain loop over its particles inside:
+        // the per-particle work is then one loop body the compiler inlines, not a closure called
+        // per particle through rayon's iterator adapters (callgrind: 50 instructions of calls
+        // and spills per particle and pass), and the pair arrays are split per run, not per
+        // particle. Every particle still writes only its own slots: the result is the same for
+        // any thread count and any task size.
+        const TASK: usize = MIN_TASK;
+        let js = nlist.split_chunks_mut(&mut self.pairs.j, TASK);
+        let gs = nlist.split_chunks_mut(&mut self.pairs.grad, TASK);
+        let ps = nlist.split_chunks_mut(&mut self.pairs.pi, TASK);
+        let fs = nlist.split_chunks_mut(&mut self.pairs.f, TASK);
         (
             (js, gs, ps, fs),
-            &mut self.pairs.len[..],
-            &mut self.kappa[..],
-            &mut self.drho[..],
-            &mut self.all_sigma[..nf],
-            &mut self.all_art[..nf],
-            &mut self.all_hess[..nf],
-            &mut self.all_mu[..nf],
+            self.pairs.len.par_chunks_mut(TASK),
+            self.kappa.par_chunks_mut(TASK),
+            self.drho.par_chunks_mut(TASK),
+            self.all_sigma[..nf].par_chunks_mut(TASK),
+            self.all_art[..nf].par_chunks_mut(TASK),
+            self.all_hess[..nf].par_chunks_mut(TASK),
+            self.all_mu[..nf].par_chunks_mut(TASK),
         )
             .into_par_iter()
-            .with_min_len(MIN_TASK)
             .enumerate()
             .for_each(
-                |(i, ((js, gs, ps, fs), len, kappa_i, drho_i, sigma_i, art_i, hess_i, mu_i))| {
-                    let ri = &rec[i];
-                    let (xi, yi, vxi, vyi) = (ri.x, ri.y, ri.vx, ri.vy);
-                    // Locals, not loads through the closure's captures: the loop's stores might
-                    // alias them as far as the compiler knows, and it reloaded both every
-                    // candidate.
-                    let (rhoi, r2max) = (ri.rho, r2max);
-                    // Compact the candidates inside the support (other than i) to the front of
-                    // i's slots, without a branch per candidate (a fifth of the list is skin):
-                    // x_ij, r^2, v_ij . x_ij and the mean density, all that the artificial
-                    // viscosity needs.
-                    let list = nlist.of(i);
-                    let n = list.len();
-                    assert!(js.len() >= n && gs.len() >= n && ps.len() >= n && fs.len() >= n);
-                    let mut k = 0;
-                    for &j in list {
-                        // SAFETY: j < nlist.points() <= rec.len() (asserted before the pass)
-                        // and k <= the number of candidates seen so far < n <= each slot
-                        // array's length (asserted above). Unchecked, the loop has no bounds
-                        // tests between a neighbour's load and its stores.
-                        let rj = unsafe { rec.get_unchecked(j as usize) };
-                        let (dx, dy) = delta::<PERIODIC>(xi, yi, rj, l);
-                        let r2 = dx * dx + dy * dy;
-                        let xij = Vec2::new(dx, dy);
-                        unsafe {
-                            *js.get_unchecked_mut(k) = j;
-                            *gs.get_unchecked_mut(k) = xij;
-                            *ps.get_unchecked_mut(k) =
-                                Vec2::new(vxi - rj.vx, vyi - rj.vy).dot(&xij);
-                            *fs.get_unchecked_mut(k) = 0.5 * (rhoi + rj.rho);
-                        }
-                        k += ((r2 < r2max) & (j as usize != i)) as usize;
-                    }
-                    // Then, slot by slot with no neighbour data and no branch (a loop the
-                    // compiler vectorises in the AVX2 build): the kernel, the artificial
-                    // viscosity and the artificial stress factor.
-                    let slots = (&mut gs[..k], &mut ps[..k], &mut fs[..k]);
-                    pair_kernels_dispatch(kernel, art_on.then_some(art), &cst, slots, avx2);
-                    let mut kin = Kinematics::default();
-                    let mut hess = Mat2::zeros();
-                    for (j, grad) in js[..k].iter().zip(&gs[..k]) {
-                        // SAFETY: every j is from i's list (see above).
-                        let rj = unsafe { rec.get_unchecked(*j as usize) };
-                        kin.add_pair(&Vec2::new(vxi - rj.vx, vyi - rj.vy), grad, rj.vol);
-                        if HESS {
+                |(c, ((js, gs, ps, fs), lens, kappa, drho, sigma, arts, hesss, mus))| {
+                    let first = c * TASK;
+                    let base = nlist.offset(first);
+                    for at in 0..lens.len() {
+                        let i = first + at;
+                        let ri = &rec[i];
+                        let (xi, yi, vxi, vyi) = (ri.x, ri.y, ri.vx, ri.vy);
+                        // Locals, not loads through the closure's captures: the loop's stores might
+                        // alias them as far as the compiler knows, and it reloaded both every
+                        // candidate.
+                        let (rhoi, r2max) = (ri.rho, r2max);
+                        // Compact the candidates inside the support (other than i) to the front of
+                        // i's slots, without a branch per candidate (a fifth of the list is skin):
+                        // x_ij, r^2, v_ij . x_ij and the mean density, all that the artificial
+                        // viscosity needs.
+                        let list = nlist.of(i);
+                        let n = list.len();
+                        let slots = nlist.offset(i) - base..nlist.offset(i + 1) - base;
+                        let (js, gs, ps, fs) = (
+                            &mut js[slots.clone()],
+                            &mut gs[slots.clone()],
+                            &mut ps[slots.clone()],
+                            &mut fs[slots],
+                        );
+                        assert!(js.len() >= n && gs.len() >= n && ps.len() >= n && fs.len() >= n);
+                        let mut k = 0;
+                        for &j in list {
+                            // SAFETY: j < nlist.points() <= rec.len() (asserted before the pass)
+                            // and k <= the number of candidates seen so far < n <= each slot
+                            // array's length (asserted above). Unchecked, the loop has no bounds
+                            // tests between a neighbour's load and its stores.
+                            let rj = unsafe { rec.get_unchecked(j as usize) };
                             let (dx, dy) = delta::<PERIODIC>(xi, yi, rj, l);
                             let r2 = dx * dx + dy * dy;
-                            hess += artificial::kernel_hessian(kernel, &Vec2::new(dx, dy), r2);
+                            let xij = Vec2::new(dx, dy);
+                            unsafe {
+                                *js.get_unchecked_mut(k) = j;
+                                *gs.get_unchecked_mut(k) = xij;
+                                *ps.get_unchecked_mut(k) =
+                                    Vec2::new(vxi - rj.vx, vyi - rj.vy).dot(&xij);
+                                *fs.get_unchecked_mut(k) = 0.5 * (rhoi + rj.rho);
+                            }
+                            k += ((r2 < r2max) & (j as usize != i)) as usize;
                         }
+                        // Then, slot by slot with no neighbour data and no branch (a loop the
+                        // compiler vectorises in the AVX2 build): the kernel, the artificial
+                        // viscosity and the artificial stress factor.
+                        let slots = (&mut gs[..k], &mut ps[..k], &mut fs[..k]);
+                        pair_kernels_dispatch(kernel, art_on.then_some(art), &cst, slots, avx2);
+                        let mut kin = Kinematics::default();
+                        let mut hess = Mat2::zeros();
+                        for (j, grad) in js[..k].iter().zip(&gs[..k]) {
+                            // SAFETY: every j is from i's list (see above).
+                            let rj = unsafe { rec.get_unchecked(*j as usize) };
+                            kin.add_pair(&Vec2::new(vxi - rj.vx, vyi - rj.vy), grad, rj.vol);
+                            if HESS {
+                                let (dx, dy) = delta::<PERIODIC>(xi, yi, rj, l);
+                                let r2 = dx * dx + dy * dy;
+                                hess += artificial::kernel_hessian(kernel, &Vec2::new(dx, dy), r2);
+                            }
+                        }
+                        lens[at] = k as u32;
+                        kappa[at] = kin.kappa;
+                        drho[at] = kin.continuity * mass;
+                        hesss[at] = hess;
+                        let tau = R::ELASTIC.then(|| &tau_p[i]);
+                        (mus[at], sigma[at], arts[at]) = particle_stress(
+                            model, p, art, &evss, laplacian, &kin.kappa, tau, fl.rho[i], &hess,
+                        );
                     }
-                    *len = k as u32;
-                    *kappa_i = kin.kappa;
-                    *drho_i = kin.continuity * mass;
-                    *hess_i = hess;
-                    let tau = R::ELASTIC.then(|| &tau_p[i]);
-                    (*mu_i, *sigma_i, *art_i) = particle_stress(
-                        model, p, art, &evss, laplacian, &kin.kappa, tau, fl.rho[i], &hess,
-                    );
                 },
             );
     }
@@ -424,80 +442,84 @@ impl<K: Kernel, R: Rheology> WcCore<K, R, 2> {
                 eta2,
                 l,
             };
+            // One task per run of TASK particles, a plain loop inside (as in pass 1).
+            const TASK: usize = MIN_TASK;
+            let per = if nw > 1 { nw } else { 1 };
             (
-                &mut self.acc[..],
-                &mut self.wall_acc[..],
-                self.wall_split.par_chunks_mut(if nw > 1 { nw } else { 1 }),
+                self.acc.par_chunks_mut(TASK),
+                self.wall_acc.par_chunks_mut(TASK),
+                self.wall_split.par_chunks_mut(TASK * per),
             )
                 .into_par_iter()
-                .with_min_len(MIN_TASK)
                 .enumerate()
-                .for_each(|(i, (acc_i, wall_i, split_i))| {
-                    let ri = (&rec[i], &rec2[i], amu[i]);
-                    let range = pairs.range(nlist, i);
-                    let (jj, gg, pp, ff) = (
-                        &pairs.j[range.clone()],
-                        &pairs.grad[range.clone()],
-                        &pairs.pi[range.clone()],
-                        &pairs.f[range],
-                    );
-                    // Ascending lists: fluid neighbours first, then virtual ones.
-                    let split = jj.partition_point(|&j| (j as usize) < nf);
-                    let n = jj.len();
-                    assert!(gg.len() == n && pp.len() == n && ff.len() == n);
-                    let sum = |from: usize, to: usize| {
-                        let mut a = Vec2::zeros();
-                        for k in from..to {
-                            // Ask for the record PREFETCH pairs ahead: the cached indices say
-                            // which, the hardware prefetchers cannot guess it, and the profile
-                            // put pass 2's time on the load of the neighbour's record.
-                            #[cfg(target_arch = "x86_64")]
-                            if k + PREFETCH < to {
-                                use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
-                                // SAFETY: k + PREFETCH < to <= n and the index < the records'
-                                // length, as below; a prefetch never faults anyway.
-                                #[allow(unused_unsafe)]
-                                unsafe {
-                                    let j = *jj.get_unchecked(k + PREFETCH) as usize;
-                                    _mm_prefetch::<_MM_HINT_T0>(rec2.as_ptr().add(j) as *const i8);
+                .for_each(|(c, (accs, walls, splits))| {
+                    for (at, (acc_i, wall_i)) in accs.iter_mut().zip(walls.iter_mut()).enumerate() {
+                        let i = c * TASK + at;
+                        let split_i = &mut splits[at * per..(at + 1) * per];
+                        let ri = (&rec[i], &rec2[i], amu[i]);
+                        let range = pairs.range(nlist, i);
+                        let (jj, gg, pp, ff) = (
+                            &pairs.j[range.clone()],
+                            &pairs.grad[range.clone()],
+                            &pairs.pi[range.clone()],
+                            &pairs.f[range],
+                        );
+                        // Ascending lists: fluid neighbours first, then virtual ones.
+                        let split = jj.partition_point(|&j| (j as usize) < nf);
+                        let n = jj.len();
+                        assert!(gg.len() == n && pp.len() == n && ff.len() == n);
+                        let sum = |from: usize, to: usize| {
+                            let mut a = Vec2::zeros();
+                            for k in from..to {
+                                // Ask for the record PREFETCH pairs ahead: the cached indices say
+                                // which, the hardware prefetchers cannot guess it, and the profile
+                                // put pass 2's time on the load of the neighbour's record.
+                                #[cfg(target_arch = "x86_64")]
+                                if k + PREFETCH < to {
+                                    use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+                                    // SAFETY: k + PREFETCH < to <= n and the index < the records'
+                                    // length, as below; a prefetch never faults anyway.
+                                    #[allow(unused_unsafe)]
+                                    unsafe {
+                                        let j = *jj.get_unchecked(k + PREFETCH) as usize;
+                                        _mm_prefetch::<_MM_HINT_T0>(
+                                            rec2.as_ptr().add(j) as *const i8
+                                        );
+                                    }
                                 }
-                            }
-                            // SAFETY: k < n, the length of every slot array (asserted above),
-                            // and every cached index < the records' length (asserted before
-                            // the pass).
-                            let (rj, g, pi, f) = unsafe {
-                                let j = *jj.get_unchecked(k) as usize;
-                                (
+                                // SAFETY: k < n, the length of every slot array (asserted above),
+                                // and every cached index < the records' length (asserted before
+                                // the pass).
+                                let (rj, g, pi, f) = unsafe {
+                                    let j = *jj.get_unchecked(k) as usize;
                                     (
-                                        rec.get_unchecked(j),
-                                        rec2.get_unchecked(j),
-                                        *amu.get_unchecked(j),
-                                    ),
-                                    *gg.get_unchecked(k),
-                                    *pp.get_unchecked(k),
-                                    *ff.get_unchecked(k),
-                                )
-                            };
-                            let (cx, cy) =
-                                pair_term::<PERIODIC, MORRIS, ART>(ri, rj, g, pi, f, &cst);
-                            a.x += cx;
-                            a.y += cy;
-                        }
-                        a
-                    };
-                    let a = sum(0, split);
-                    let aw = sum(split, jj.len());
-                    *wall_i = aw * mass;
-                    if nw > 1 {
-                        // Each wall's share on its own (the total above keeps its one run).
-                        let mut from = split;
-                        for (s, &end) in split_i.iter_mut().zip(&wall_ends) {
-                            let to = from + jj[from..].partition_point(|&j| j < end);
-                            *s = sum(from, to) * mass;
-                            from = to;
-                        }
+                                        (
+                                            rec.get_unchecked(j),
+                                            rec2.get_unchecked(j),
+                                            *amu.get_unchecked(j),
+                                        ),
+                                        *gg.get_unchecked(k),
+                                        *pp.get_unchecked(k),
+                                        *ff.get_unchecked(k),
+                                    )
+                                };
+                                let (cx, cy) =
+                                    pair_term::<PERIODIC, MORRIS, ART>(ri, rj, g, pi, f, &cst);
+                                a.x += cx;
+                                a.y += cy;
+                            }
+                            a
+                        };
+                        book_particle(
+                            sum,
+                            jj,
+                            split,
+                            &wall_ends,
+                            mass,
+                            p.gravity,
+                            (acc_i, wall_i, split_i),
+                        );
                     }
-                    *acc_i = (a + aw) * mass + p.gravity;
                 });
         }
         self.stage_report(mass)

@@ -140,18 +140,15 @@ where
                     }
                     a
                 };
-                let a = sum(0, split);
-                let aw = sum(split, jj.len());
-                *wall_i = aw * mass;
-                if nw > 1 {
-                    let mut from = split;
-                    for (s, &end) in split_i.iter_mut().zip(&wall_ends) {
-                        let to = from + jj[from..].partition_point(|&j| j < end);
-                        *s = sum(from, to) * mass;
-                        from = to;
-                    }
-                }
-                *acc_i = (a + aw) * mass + p.gravity;
+                book_particle(
+                    sum,
+                    jj,
+                    split,
+                    &wall_ends,
+                    mass,
+                    p.gravity,
+                    (acc_i, wall_i, split_i),
+                );
             });
         self.stage_report(mass)
     }

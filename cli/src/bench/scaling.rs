@@ -1,0 +1,220 @@
+//! `viscosph bench scaling`: how a step's time falls with the threads, 1 to the machine's cores,
+//! for the WCSPH drop at 10^4, 10^5 and 10^6 particles and the ISPH drop (King & Lind's Re = 4)
+//! at 10^3, 10^4 and 10^5: wall time per step, speed-up and parallel efficiency, and from the
+//! per-pass timers ([`viscosph::profile`]) the serial share of a step at one thread and its
+//! Amdahl projection to 16 threads; for ISPH also the pressure solve's share and its iterations
+//! per solve against the particle count.
+//!
+//! On a machine shared with other work the wall clock counts the time others hold the cores: the
+//! section states the load average before and after, and the CPU time per particle-step (which
+//! does not count others' time) beside the wall figures.
+
+use super::isph::king_lind_drop;
+use super::machine_description;
+use super::throughput::ppd_for;
+use std::fmt::Write as _;
+use std::path::Path;
+use viscosph::config::Value;
+use viscosph::profile::{amdahl_efficiency, Timings};
+use viscosph::scene::SceneConfig;
+use viscosph::simulation::Simulation;
+
+/// One timed run: `steps` steps of a case on `threads` threads.
+struct Run {
+    particles: usize,
+    steps: u64,
+    threads: usize,
+    timings: Timings,
+    /// Pressure-solve iterations per step (ISPH; 0 otherwise).
+    ppe_iterations: f64,
+}
+
+impl Run {
+    /// Wall seconds per step.
+    fn step_wall(&self) -> f64 {
+        self.timings.total / self.steps.max(1) as f64
+    }
+    /// CPU nanoseconds per particle-step.
+    fn cpu_ns(&self) -> f64 {
+        1e9 * self.timings.total_cpu / (self.steps.max(1) as f64 * self.particles as f64)
+    }
+}
+
+/// Time `steps` steps of `cfg` on `threads` threads with the per-pass timers on, from one tiny
+/// first step (which builds the lists and the walls, untimed).
+fn timed_run(
+    cfg: &SceneConfig,
+    threads: usize,
+    steps: u64,
+) -> Result<Run, Box<dyn std::error::Error>> {
+    let mut cfg = cfg.clone();
+    cfg.numerics.threads = threads as i64;
+    let mut sim = Simulation::new(cfg)?;
+    sim.advance_to(1e-12)?;
+    let dt = sim.state().last_dt;
+    let (s0, it0) = (sim.state().step, sim.state().solver_iterations[0]);
+    sim.set_profiling(true);
+    // A scheme that times some parts always (ISPH's solves) has timed the first step too.
+    let before = sim.timings();
+    sim.advance_to(sim.time() + dt * steps as f64 * 0.999)?;
+    let st = sim.state();
+    let done = st.step - s0;
+    Ok(Run {
+        particles: st.fluid.len(),
+        steps: done,
+        threads,
+        timings: sim.timings().since(&before),
+        ppe_iterations: (st.solver_iterations[0] - it0) as f64 / done.max(1) as f64,
+    })
+}
+
+/// The load average over the last minute (Linux; NaN elsewhere).
+fn load_average() -> f64 {
+    std::fs::read_to_string("/proc/loadavg")
+        .ok()
+        .and_then(|t| t.split_whitespace().next().and_then(|x| x.parse().ok()))
+        .unwrap_or(f64::NAN)
+}
+
+/// The cases: (label, scheme, configuration for about `n` particles, steps to time).
+fn cases(quick: bool) -> Vec<(String, SceneConfig, u64)> {
+    let (wc_sizes, isph_sizes): (&[f64], &[f64]) = if quick {
+        (&[1e3, 4e3], &[300.0, 1e3])
+    } else {
+        (&[1e4, 1e5, 1e6], &[1e3, 1e4, 1e5])
+    };
+    let mut out = Vec::new();
+    for &n in wc_sizes {
+        let mut cfg = SceneConfig::default();
+        cfg.set("rheology", Value::Text("newtonian".into()))
+            .expect("valid");
+        cfg.set("particles_per_diameter", Value::Integer(ppd_for(n)))
+            .expect("valid");
+        // Start one spacing above the plate: the walls take part from the first step.
+        let h = 0.5 * cfg.drop.drop_diameter + 1.5 * cfg.dx();
+        cfg.set("initial_drop_height", Value::Real(h))
+            .expect("valid");
+        let steps = ((2e6 / n) as u64).clamp(6, 200) / if quick { 4 } else { 1 };
+        out.push(("WCSPH Newtonian drop".to_string(), cfg, steps.max(4)));
+    }
+    for &n in isph_sizes {
+        let mut cfg = king_lind_drop("newtonian", ppd_for(n));
+        let h = 0.5 * cfg.drop.drop_diameter + 1.5 * cfg.dx();
+        cfg.set("initial_drop_height", Value::Real(h))
+            .expect("valid");
+        let steps = ((2e5 / n) as u64).clamp(4, 100) / if quick { 4 } else { 1 };
+        out.push(("ISPH Re = 4 drop".to_string(), cfg, steps.max(2)));
+    }
+    out
+}
+
+pub fn bench_scaling(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::Error>> {
+    let cores = std::thread::available_parallelism()
+        .map(|n| n.get())
+        .unwrap_or(1);
+    let load_before = load_average();
+    let mut runs: Vec<(String, Run)> = Vec::new();
+    for (label, cfg, steps) in cases(quick) {
+        for threads in 1..=cores {
+            eprintln!(
+                "bench scaling: {label}, {} m spacing, {threads} thread(s) ...",
+                cfg.dx()
+            );
+            runs.push((label.clone(), timed_run(&cfg, threads, steps)?));
+        }
+    }
+    let load_after = load_average();
+    let mut md = format!(
+        "Wall time per step against threads, {}; load average {load_before:.1} before and \
+         {load_after:.1} after (other work on the machine slows the wall clock; the CPU time \
+         per particle-step counts this process alone). Serial share: the parts of a step that \
+         run on one thread, from the per-pass timers at one thread (`viscosph run --profile` \
+         prints the same table); Amdahl: the efficiency that share allows at 16 threads, \
+         1 / (s + (1 - s)/16) / 16.\n\n",
+        machine_description()
+    );
+    md.push_str(
+        "| case | particles | threads | steps | wall per step [ms] | speed-up | efficiency | CPU \
+         ns per particle-step | serial share | Amdahl, 16 threads |\n|---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    let mut csv = String::from(
+        "case,particles,threads,steps,wall_per_step_s,speed_up,efficiency,cpu_ns_per_particle_step,serial_share,amdahl16\n",
+    );
+    for (label, r) in &runs {
+        let one = runs
+            .iter()
+            .find(|(l, o)| l == label && o.particles == r.particles && o.threads == 1)
+            .map(|(_, o)| o)
+            .expect("every case runs on one thread first");
+        let speed_up = one.step_wall() / r.step_wall();
+        let eff = speed_up / r.threads as f64;
+        let s = one.timings.serial_share();
+        let (share, amdahl) = if r.threads == 1 {
+            (
+                format!("{:.2} %", 100.0 * s),
+                format!("{:.0} %", 100.0 * amdahl_efficiency(s, 16)),
+            )
+        } else {
+            (String::new(), String::new())
+        };
+        writeln!(
+            md,
+            "| {label} | {} | {} | {} | {:.3} | {speed_up:.2} | {:.0} % | {:.0} | {share} | {amdahl} |",
+            r.particles,
+            r.threads,
+            r.steps,
+            1e3 * r.step_wall(),
+            100.0 * eff,
+            r.cpu_ns()
+        )?;
+        writeln!(
+            csv,
+            "{label},{},{},{},{:.6e},{speed_up:.4},{eff:.4},{:.1},{s:.5},{:.4}",
+            r.particles,
+            r.threads,
+            r.steps,
+            r.step_wall(),
+            r.cpu_ns(),
+            amdahl_efficiency(s, 16)
+        )?;
+    }
+    // ISPH: where the time goes and how the pressure solve grows with the particles.
+    md.push_str(
+        "\n| ISPH, one thread: particles | pressure solve share | viscous solve share | PPE \
+         iterations per solve |\n|---|---|---|---|\n",
+    );
+    for (_, r) in runs
+        .iter()
+        .filter(|(l, r)| l.starts_with("ISPH") && r.threads == 1)
+    {
+        let t = &r.timings;
+        let tot = t.total.max(f64::MIN_POSITIVE);
+        writeln!(
+            md,
+            "| {} | {:.0} % | {:.0} % | {:.1} |",
+            r.particles,
+            100.0 * t.part("pressure solve") / tot,
+            100.0 * t.part("viscous solve") / tot,
+            r.ppe_iterations
+        )?;
+    }
+    // The per-pass table of the largest WCSPH case at one thread and at the most threads.
+    for threads in [1, cores] {
+        if let Some((label, r)) = runs
+            .iter()
+            .filter(|(l, r)| l.starts_with("WCSPH") && r.threads == threads)
+            .max_by_key(|(_, r)| r.particles)
+        {
+            writeln!(
+                md,
+                "\nPer pass, {label}, {} particles, {threads} thread(s), {} steps:\n\n```text\n{}```",
+                r.particles,
+                r.steps,
+                r.timings.table()
+            )?;
+        }
+    }
+    std::fs::write(out.join("scaling.csv"), &csv)?;
+    std::fs::write(out.join("scaling.md"), &md)?;
+    Ok(md)
+}
