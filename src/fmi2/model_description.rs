@@ -14,7 +14,8 @@
 
 use super::instance::Api;
 use crate::config::{range_text, Kind, ParamSpec};
-use crate::scene::{input_rows, name_variables, OUTPUTS, PARAMS};
+use crate::diagnostics::OutputSpec;
+use crate::scene::{input_rows, name_variables, OUTPUTS, OUTPUT_ARRAYS, PARAMS};
 use std::fmt::Write;
 
 /// The FMI model identifier: the name of the shared library inside the FMU
@@ -432,10 +433,11 @@ pub enum VarKind {
     },
 }
 
-/// An array variable: FMI 3.0 writes it as one variable with a `<Dimension start="len"/>`,
-/// FMI 2.0 as `len` scalars `name_001`, `name_002`, ... with the value references
-/// `first_element_vr`, `first_element_vr + 1`, ... (the ones the instance reads); the array's
-/// own value reference exists only in FMI 3.0 and is translated to those by the FMI 3.0 layer.
+/// An array variable, FMI 3.0 only ([`array_variables`]): one variable with a
+/// `<Dimension start="len"/>` whose elements are the scalar outputs `name_001`, `name_002`, ...
+/// with the value references `first_element_vr`, `first_element_vr + 1`, ... (variables of
+/// their own in FMI 2.0 and 3.0 alike, the ones the instance reads); the FMI 3.0 layer
+/// translates the array's value reference to those.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Array {
     pub len: usize,
@@ -457,7 +459,7 @@ pub struct ModelVariable {
 }
 
 impl ModelVariable {
-    /// The scalars this variable is in FMI 2.0: itself, or each element of an array.
+    /// The scalars this variable stands for: itself, or each element of an array.
     pub fn scalars(&self) -> Vec<(String, u32)> {
         match self.array {
             None => vec![(self.name.clone(), self.value_reference)],
@@ -540,21 +542,7 @@ pub fn model_variables() -> Vec<ModelVariable> {
         .filter(|p| !p.is_input())
         .map(|p| parameter_variable(p))
         .collect();
-    vars.extend(OUTPUTS.iter().map(|o| ModelVariable {
-        name: o.name.to_string(),
-        value_reference: o.value_reference,
-        description: o.description.to_string(),
-        causality: Causality::Output,
-        variability: "continuous",
-        initial: Some("calculated"),
-        kind: VarKind::Real {
-            unit: o.unit,
-            start: None,
-            min: f64::NEG_INFINITY,
-            max: f64::INFINITY,
-        },
-        array: None,
-    }));
+    vars.extend(OUTPUTS.iter().map(|o| output_variable(o)));
     vars.extend(name_variables().map(|(p, name, vr)| ModelVariable {
         name,
         value_reference: vr,
@@ -576,6 +564,46 @@ pub fn model_variables() -> Vec<ModelVariable> {
         parameter_variable(p)
     }));
     vars
+}
+
+/// An output row of the table as a variable of the interface.
+fn output_variable(o: &OutputSpec) -> ModelVariable {
+    ModelVariable {
+        name: o.name.to_string(),
+        value_reference: o.value_reference,
+        description: o.description.to_string(),
+        causality: Causality::Output,
+        variability: "continuous",
+        initial: Some("calculated"),
+        kind: VarKind::Real {
+            unit: o.unit,
+            start: None,
+            min: f64::NEG_INFINITY,
+            max: f64::INFINITY,
+        },
+        array: None,
+    }
+}
+
+/// The array variables of FMI 3.0, one per array row of the output table ([`OUTPUT_ARRAYS`]),
+/// in value-reference order. They add to [`model_variables`], whose scalars include their
+/// elements: FMI 2.0 has only those, FMI 3.0 both (the scalars are public names).
+pub fn array_variables() -> Vec<ModelVariable> {
+    OUTPUT_ARRAYS
+        .iter()
+        .map(|a| ModelVariable {
+            array: Some(Array {
+                len: a.len,
+                first_element_vr: a.first_element_vr,
+            }),
+            ..output_variable(&OutputSpec {
+                name: a.name,
+                value_reference: a.value_reference,
+                unit: a.unit,
+                description: a.description,
+            })
+        })
+        .collect()
 }
 
 /// 64-bit FNV-1a hash, seeded: deterministic across builds and platforms, unlike `std`'s hasher.

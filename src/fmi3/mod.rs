@@ -17,4 +17,4 @@ mod exports;
 pub mod model_description;
 pub mod types;
 
-pub use model_description::model_description_xml;
+pub use model_description::{model_description_xml, TIME_VR};
