@@ -54,7 +54,8 @@ use crate::state::State;
 use crate::Vec2;
 use rayon::prelude::*;
 
-/// One row of the output table: an FMU output.
+/// One row of the output table: an FMU output (a scalar; an array row of [`outputs!`] gives
+/// one per element).
 #[derive(Debug, Clone, Copy)]
 pub struct OutputSpec {
     pub name: &'static str,
@@ -63,20 +64,115 @@ pub struct OutputSpec {
     pub description: &'static str,
 }
 
-/// A group of outputs: a struct of `f64` fields that are rows of the output table, declared once
-/// with [`outputs!`](crate::outputs).
+/// An array row of the output table: a distribution (the load along the plate in bins) that
+/// is `len` scalar outputs `name_001..` with the value references `first_element_vr..` in
+/// FMI 2.0 and FMI 3.0 alike, and in FMI 3.0 also one Float64 array variable of its own
+/// (`value_reference`, `<Dimension start="len"/>`) whose values are those elements.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct OutputArray {
+    pub name: &'static str,
+    /// The FMI 3.0 array variable's value reference.
+    pub value_reference: u32,
+    /// Value reference of element 1 (`name_001`); element k has `first_element_vr + k - 1`.
+    pub first_element_vr: u32,
+    pub len: usize,
+    pub unit: &'static str,
+    /// The array variable's description.
+    pub description: &'static str,
+    /// Each element's description, `{k}` standing for its 1-based index.
+    pub element_description: &'static str,
+}
+
+impl OutputArray {
+    /// The scalar rows of the elements, in order: `name_001`, `name_002`, ...
+    pub fn element_rows(&self) -> Vec<OutputSpec> {
+        (1..=self.len)
+            .map(|k| OutputSpec {
+                name: leak(format!("{}_{k:03}", self.name)),
+                value_reference: self.first_element_vr + k as u32 - 1,
+                unit: self.unit,
+                description: leak(self.element_description.replace("{k}", &k.to_string())),
+            })
+            .collect()
+    }
+}
+
+/// The element names and descriptions live as long as the tables, which are built once per
+/// process (`OnceLock`): leaking them is how they become `&'static` like the scalar rows'.
+fn leak(s: String) -> &'static str {
+    Box::leak(s.into_boxed_str())
+}
+
+/// The scalar rows of a group from one row per field: an array row's field becomes its
+/// elements ([`OutputArray::element_rows`]).
+pub fn expand_arrays(fields: &[OutputSpec], arrays: &[OutputArray]) -> Vec<OutputSpec> {
+    let mut rows = Vec::new();
+    for f in fields {
+        match arrays.iter().find(|a| a.name == f.name) {
+            Some(a) => rows.extend(a.element_rows()),
+            None => rows.push(*f),
+        }
+    }
+    rows
+}
+
+/// A field of an output group: a scalar (`f64`) or an array row's values (`[f64; N]`).
+pub trait OutputField {
+    fn push_to(&self, out: &mut Vec<f64>);
+    fn take_from(&mut self, values: &mut std::slice::Iter<'_, f64>);
+}
+
+impl OutputField for f64 {
+    fn push_to(&self, out: &mut Vec<f64>) {
+        out.push(*self);
+    }
+    fn take_from(&mut self, values: &mut std::slice::Iter<'_, f64>) {
+        *self = *values.next().expect("one value per row");
+    }
+}
+
+impl<const N: usize> OutputField for [f64; N] {
+    fn push_to(&self, out: &mut Vec<f64>) {
+        out.extend_from_slice(self);
+    }
+    fn take_from(&mut self, values: &mut std::slice::Iter<'_, f64>) {
+        for x in self {
+            *x = *values.next().expect("one value per row");
+        }
+    }
+}
+
+/// A group of outputs: a struct of `f64` fields (and `[f64; N]` fields for array rows) that
+/// are rows of the output table, declared once with [`outputs!`](crate::outputs).
 pub trait OutputGroup {
-    /// The rows, in field order.
-    const ROWS: &'static [OutputSpec];
-    /// Append the values in the order of [`OutputGroup::ROWS`].
+    /// The scalar rows, in field order (an array row as its elements).
+    fn rows() -> &'static [OutputSpec];
+    /// The array rows, in field order.
+    const ARRAYS: &'static [OutputArray];
+    /// Append the values in the order of [`OutputGroup::rows`].
     fn push_values(&self, out: &mut Vec<f64>);
-    /// Set the values from `v`, in the order of [`OutputGroup::ROWS`]; returns the rest of `v`.
+    /// Set the values from `v`, in the order of [`OutputGroup::rows`]; returns the rest of `v`.
     fn take_values<'a>(&mut self, v: &'a [f64]) -> &'a [f64];
+}
+
+/// The type of an output field: `f64`, or `[f64; len]` for an array row.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __output_field_type {
+    () => {
+        f64
+    };
+    ($len:expr) => {
+        [f64; $len]
+    };
 }
 
 /// Declare a group of outputs: each field is written once with its row (FMU name = field name,
 /// value reference, unit, description = the field's documentation); the macro generates the
-/// struct and its [`OutputGroup`] implementation.
+/// struct and its [`OutputGroup`] implementation. A row followed by `; array [len] vr V;
+/// "description"` is an array row ([`OutputArray`]): its field is `[f64; len]`, its elements
+/// are the scalar outputs `name_001..` from the row's value reference on (the row's
+/// description with `{k}` for the index), and V is the FMI 3.0 array variable's.
 ///
 /// ```ignore
 /// viscosph::outputs! {
@@ -91,34 +187,53 @@ macro_rules! outputs {
     (
         $(#[$meta:meta])*
         $vis:vis struct $name:ident {
-            $( $field:ident : vr $vr:literal, unit $unit:literal; $desc:literal ),* $(,)?
+            $( $field:ident : vr $vr:literal, unit $unit:literal; $desc:literal
+               $(; array [$len:expr] vr $avr:literal; $adesc:literal)? ),* $(,)?
         }
     ) => {
         $(#[$meta])*
         #[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
         $vis struct $name {
-            $( #[doc = $desc] pub $field: f64, )*
+            $( #[doc = $desc] pub $field: $crate::__output_field_type!($($len)?), )*
         }
 
         impl $crate::diagnostics::OutputGroup for $name {
-            const ROWS: &'static [$crate::diagnostics::OutputSpec] = &[
-                $(
-                    $crate::diagnostics::OutputSpec {
+            fn rows() -> &'static [$crate::diagnostics::OutputSpec] {
+                static ROWS: std::sync::OnceLock<Vec<$crate::diagnostics::OutputSpec>> =
+                    std::sync::OnceLock::new();
+                const FIELDS: &[$crate::diagnostics::OutputSpec] = &[
+                    $(
+                        $crate::diagnostics::OutputSpec {
+                            name: stringify!($field),
+                            value_reference: $vr,
+                            unit: $unit,
+                            description: $desc,
+                        },
+                    )*
+                ];
+                ROWS.get_or_init(|| $crate::diagnostics::expand_arrays(FIELDS, Self::ARRAYS))
+            }
+            const ARRAYS: &'static [$crate::diagnostics::OutputArray] = &[
+                $($(
+                    $crate::diagnostics::OutputArray {
                         name: stringify!($field),
-                        value_reference: $vr,
+                        value_reference: $avr,
+                        first_element_vr: $vr,
+                        len: $len,
                         unit: $unit,
-                        description: $desc,
+                        description: $adesc,
+                        element_description: $desc,
                     },
-                )*
+                )?)*
             ];
             fn push_values(&self, out: &mut Vec<f64>) {
-                $( out.push(self.$field); )*
+                $( $crate::diagnostics::OutputField::push_to(&self.$field, out); )*
                 let _ = out;
             }
             fn take_values<'a>(&mut self, v: &'a [f64]) -> &'a [f64] {
-                let (own, rest) = v.split_at(Self::ROWS.len());
+                let (own, rest) = v.split_at(Self::rows().len());
                 let own = &mut own.iter();
-                $( self.$field = *own.next().expect("one value per row"); )*
+                $( $crate::diagnostics::OutputField::take_from(&mut self.$field, own); )*
                 let _ = own;
                 rest
             }

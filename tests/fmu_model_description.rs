@@ -13,8 +13,8 @@ use std::collections::HashSet;
 use viscosph::config::{Kind, Value};
 use viscosph::fmi2::model_description::{name_variable_description, parameter_description};
 use viscosph::fmi2::{guid, model_description_xml};
-use viscosph::scene::OUTPUTS;
 use viscosph::scene::{name_variables, param_spec, SceneConfig, PARAMS};
+use viscosph::scene::{OUTPUTS, OUTPUT_ARRAYS};
 
 const PATH: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
@@ -330,8 +330,10 @@ fn drop_height_is_the_older_name_of_initial_drop_height() {
 /// file is the generated one, and, parsed, every variable of the FMI 2.0 description is there
 /// with the same value reference, causality, variability, start, range and unit (FMI 3.0
 /// section 2.4.7: Float64 for Real, Int32 for Integer, Enumeration, String with a `<Start>`
-/// child), one independent variable `time`, and the ModelStructure lists exactly the outputs,
-/// by value reference, with `dependencies=""` as Output.
+/// child), one independent variable `time`, one Float64 array per array row of the output
+/// table (`wall_pressure`, `wall_shear`: `<Dimension start="24"/>`, the unit and causality of
+/// its elements, which stay scalar variables of their own), and the ModelStructure lists
+/// exactly the outputs, by value reference, with `dependencies=""` as Output.
 #[test]
 fn fmi3_model_description_has_the_same_variables() {
     const PATH3: &str = concat!(
@@ -359,7 +361,44 @@ fn fmi3_model_description_has_the_same_variables() {
         "ScalarVariable",
     )
     .collect();
-    assert_eq!(vars3.len(), vars2.len() + 1, "FMI 2.0's variables and time");
+    assert_eq!(
+        vars3.len(),
+        vars2.len() + 1 + OUTPUT_ARRAYS.len(),
+        "FMI 2.0's variables, time and the arrays"
+    );
+    for a in OUTPUT_ARRAYS.iter() {
+        let v3 = vars3
+            .iter()
+            .find(|v| v.attribute("name") == Some(a.name))
+            .unwrap_or_else(|| panic!("array {} is not in the FMI 3.0 description", a.name));
+        assert_eq!(v3.tag_name().name(), "Float64");
+        assert_eq!(attr(*v3, "valueReference"), a.value_reference.to_string());
+        let len = a.len.to_string();
+        assert_eq!(
+            child(*v3, "Dimension").attribute("start"),
+            Some(len.as_str())
+        );
+        for k in 1..=a.len {
+            let element = format!("{}_{k:03}", a.name);
+            let e2 = vars2
+                .iter()
+                .find(|v| v.attribute("name") == Some(element.as_str()))
+                .unwrap_or_else(|| panic!("{element} is not in the FMI 2.0 description"));
+            assert_eq!(
+                attr(*e2, "valueReference"),
+                (a.first_element_vr + k as u32 - 1).to_string()
+            );
+            for at in ["causality", "variability", "initial"] {
+                assert_eq!(v3.attribute(at), e2.attribute(at), "{}: {at}", a.name);
+            }
+            let unit2 = e2
+                .children()
+                .find(|c| c.is_element())
+                .unwrap()
+                .attribute("unit");
+            assert_eq!(v3.attribute("unit"), unit2, "{}", a.name);
+        }
+    }
     let independent: Vec<&Node> = vars3
         .iter()
         .filter(|v| v.attribute("causality") == Some("independent"))
@@ -403,7 +442,7 @@ fn fmi3_model_description_has_the_same_variables() {
         .filter(|v| v.attribute("causality") == Some("output"))
         .map(|v| attr(*v, "valueReference"))
         .collect();
-    assert_eq!(output_vrs.len(), OUTPUTS.len());
+    assert_eq!(output_vrs.len(), OUTPUTS.len() + OUTPUT_ARRAYS.len());
     let listed: Vec<&str> = elements(ms, "Output")
         .map(|u| {
             assert_eq!(u.attribute("dependencies"), Some(""));

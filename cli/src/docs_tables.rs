@@ -31,7 +31,7 @@ fn scene_tables<S: SceneType>() -> SceneTables {
         name: S::NAME,
         description: S::DESCRIPTION,
         params,
-        outputs: S::Outputs::ROWS,
+        outputs: S::Outputs::rows(),
     }
 }
 
@@ -367,7 +367,7 @@ pub fn tables() -> Result<Vec<(String, String)>, String> {
     }
     add(
         "outputs_shared.md".into(),
-        output_table(SharedOutputs::ROWS),
+        output_table(SharedOutputs::rows()),
     );
     add("choices.md".into(), choices());
     add("fmu_variables.md".into(), fmu_variables(&scenes));

@@ -13,8 +13,8 @@
 //!   cdylib as the `fmi2*` ones;
 //! - [`types`] are the C types of the FMI 3.0 headers.
 
-mod exports;
+pub(crate) mod exports;
 pub mod model_description;
 pub mod types;
 
-pub use model_description::model_description_xml;
+pub use model_description::{model_description_xml, TIME_VR};

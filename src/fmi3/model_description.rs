@@ -15,9 +15,9 @@
 
 use crate::fmi2::instance::Api;
 use crate::fmi2::model_description::{
-    enumeration_items, enumeration_types, escape, guid, log_categories, model_variables,
-    shared_root_attributes, unit_definitions, Causality, ModelVariable, VarKind, DEFAULT_STEP_SIZE,
-    DEFAULT_STOP_TIME, MODEL_IDENTIFIER,
+    array_variables, enumeration_items, enumeration_types, escape, guid, log_categories,
+    model_variables, shared_root_attributes, unit_definitions, Causality, ModelVariable, VarKind,
+    DEFAULT_STEP_SIZE, DEFAULT_STOP_TIME, MODEL_IDENTIFIER,
 };
 use std::fmt::Write;
 use std::sync::OnceLock;
@@ -125,7 +125,16 @@ pub fn model_description_xml() -> String {
         r#"  <DefaultExperiment startTime="0" stopTime="{DEFAULT_STOP_TIME}" stepSize="{DEFAULT_STEP_SIZE}"/>"#
     );
 
-    let vars = model_variables();
+    // The scalars, each array variable after its last element.
+    let arrays = array_variables();
+    let mut vars = Vec::new();
+    for v in model_variables() {
+        let last_of = arrays
+            .iter()
+            .find(|a| a.scalars().last().map(|(_, vr)| *vr) == Some(v.value_reference));
+        vars.push(v);
+        vars.extend(last_of.cloned());
+    }
     let _ = writeln!(w, "  <ModelVariables>");
     let _ = writeln!(
         w,
@@ -171,9 +180,8 @@ pub fn core_value_references(vrs: &[u32]) -> Vec<u32> {
     // The arrays and their elements, once per process (the tables are constant).
     static ARRAYS: OnceLock<Vec<(u32, Vec<u32>)>> = OnceLock::new();
     let arrays = ARRAYS.get_or_init(|| {
-        model_variables()
+        array_variables()
             .into_iter()
-            .filter(|v| v.array.is_some())
             .map(|v| {
                 (
                     v.value_reference,
@@ -215,6 +223,25 @@ mod tests {
                 "{} in FMI 3.0",
                 v.name
             );
+        }
+        // The arrays: FMI 3.0 only, their elements in both.
+        for v in array_variables() {
+            assert_eq!(
+                vr_of(&two, &v.name),
+                None,
+                "{} is no FMI 2.0 variable",
+                v.name
+            );
+            assert_eq!(
+                vr_of(&three, &v.name),
+                Some(v.value_reference),
+                "{}",
+                v.name
+            );
+            for (name, vr) in v.scalars() {
+                assert_eq!(vr_of(&two, &name), Some(vr), "{name} in FMI 2.0");
+                assert_eq!(vr_of(&three, &name), Some(vr), "{name} in FMI 3.0");
+            }
         }
         assert!(three.contains(&format!(r#"instantiationToken="{}""#, guid())));
     }

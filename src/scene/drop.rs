@@ -8,7 +8,6 @@ use super::{Outputs, Scene, SceneConfig, SceneType};
 use crate::boundary::plate::{Motion, Plate};
 use crate::boundary::wall::Wall;
 use crate::config::{real, real_pos, ConfigError};
-use crate::diagnostics::OutputGroup;
 use crate::state::State;
 use crate::particles::Fluid;
 use crate::dim::{Tensor, Vector};
@@ -26,7 +25,8 @@ crate::params! {
     }
 }
 
-/// Number of bins of the load along the plate (`wall_pressure_001..`, `wall_shear_001..`).
+/// Number of bins of the load along the plate (`wall_pressure_001..`, `wall_shear_001..`; the
+/// FMI 3.0 arrays `wall_pressure`, `wall_shear`).
 pub const WALL_BINS: usize = 24;
 
 /// The bins cover the plate from `-WALL_BIN_SPAN / 2` to `+WALL_BIN_SPAN / 2` drop diameters
@@ -37,54 +37,10 @@ pub const WALL_BIN_SPAN: f64 = 6.0;
 crate::outputs! {
     /// The drop's own outputs: the load along the plate (see [`load_outputs`]).
     pub struct DropOutputs {
-        wall_pressure_001: vr 122, unit "Pa"; "Drop: normal load on bin 1 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_pressure_002: vr 123, unit "Pa"; "Drop: normal load on bin 2 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_pressure_003: vr 124, unit "Pa"; "Drop: normal load on bin 3 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_pressure_004: vr 125, unit "Pa"; "Drop: normal load on bin 4 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_pressure_005: vr 126, unit "Pa"; "Drop: normal load on bin 5 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_pressure_006: vr 127, unit "Pa"; "Drop: normal load on bin 6 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_pressure_007: vr 128, unit "Pa"; "Drop: normal load on bin 7 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_pressure_008: vr 129, unit "Pa"; "Drop: normal load on bin 8 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_pressure_009: vr 130, unit "Pa"; "Drop: normal load on bin 9 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_pressure_010: vr 131, unit "Pa"; "Drop: normal load on bin 10 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_pressure_011: vr 132, unit "Pa"; "Drop: normal load on bin 11 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_pressure_012: vr 133, unit "Pa"; "Drop: normal load on bin 12 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_pressure_013: vr 134, unit "Pa"; "Drop: normal load on bin 13 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_pressure_014: vr 135, unit "Pa"; "Drop: normal load on bin 14 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_pressure_015: vr 136, unit "Pa"; "Drop: normal load on bin 15 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_pressure_016: vr 137, unit "Pa"; "Drop: normal load on bin 16 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_pressure_017: vr 138, unit "Pa"; "Drop: normal load on bin 17 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_pressure_018: vr 139, unit "Pa"; "Drop: normal load on bin 18 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_pressure_019: vr 140, unit "Pa"; "Drop: normal load on bin 19 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_pressure_020: vr 141, unit "Pa"; "Drop: normal load on bin 20 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_pressure_021: vr 142, unit "Pa"; "Drop: normal load on bin 21 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_pressure_022: vr 143, unit "Pa"; "Drop: normal load on bin 22 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_pressure_023: vr 144, unit "Pa"; "Drop: normal load on bin 23 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_pressure_024: vr 145, unit "Pa"; "Drop: normal load on bin 24 of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_shear_001: vr 146, unit "Pa"; "Drop: tangential load on bin 1 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_shear_002: vr 147, unit "Pa"; "Drop: tangential load on bin 2 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_shear_003: vr 148, unit "Pa"; "Drop: tangential load on bin 3 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_shear_004: vr 149, unit "Pa"; "Drop: tangential load on bin 4 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_shear_005: vr 150, unit "Pa"; "Drop: tangential load on bin 5 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_shear_006: vr 151, unit "Pa"; "Drop: tangential load on bin 6 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_shear_007: vr 152, unit "Pa"; "Drop: tangential load on bin 7 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_shear_008: vr 153, unit "Pa"; "Drop: tangential load on bin 8 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_shear_009: vr 154, unit "Pa"; "Drop: tangential load on bin 9 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_shear_010: vr 155, unit "Pa"; "Drop: tangential load on bin 10 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_shear_011: vr 156, unit "Pa"; "Drop: tangential load on bin 11 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_shear_012: vr 157, unit "Pa"; "Drop: tangential load on bin 12 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_shear_013: vr 158, unit "Pa"; "Drop: tangential load on bin 13 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_shear_014: vr 159, unit "Pa"; "Drop: tangential load on bin 14 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_shear_015: vr 160, unit "Pa"; "Drop: tangential load on bin 15 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_shear_016: vr 161, unit "Pa"; "Drop: tangential load on bin 16 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_shear_017: vr 162, unit "Pa"; "Drop: tangential load on bin 17 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_shear_018: vr 163, unit "Pa"; "Drop: tangential load on bin 18 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_shear_019: vr 164, unit "Pa"; "Drop: tangential load on bin 19 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_shear_020: vr 165, unit "Pa"; "Drop: tangential load on bin 20 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_shear_021: vr 166, unit "Pa"; "Drop: tangential load on bin 21 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_shear_022: vr 167, unit "Pa"; "Drop: tangential load on bin 22 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_shear_023: vr 168, unit "Pa"; "Drop: tangential load on bin 23 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
-        wall_shear_024: vr 169, unit "Pa"; "Drop: tangential load on bin 24 of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_pressure: vr 122, unit "Pa"; "Drop: normal load on bin {k} of 24 along the plate (see WALL_BINS), force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)";
+            array [WALL_BINS] vr 180; "Drop: normal load along the plate in 24 bins (see WALL_BINS), the elements wall_pressure_001..024: force into the plate per bin length per unit depth (2D; 0 in 3D and in other scenes)",
+        wall_shear: vr 146, unit "Pa"; "Drop: tangential load on bin {k} of 24 along the plate, force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)";
+            array [WALL_BINS] vr 181; "Drop: tangential load along the plate in 24 bins, the elements wall_shear_001..024: force downhill per bin length per unit depth (2D; 0 in 3D and in other scenes)",
         wall_moment: vr 170, unit "N.m/m"; "Drop: moment about the impact point of the fluid's normal force on the plate per unit depth [N m/m], sum of s F_n: positive when the load downhill of the impact point (s > 0) dominates (2D; 0 in 3D and in other scenes)",
         wall_centre_of_pressure: vr 171, unit "m"; "Drop: where along the plate the normal force acts, wall_moment / wall_force_normal, from the impact point, positive downhill; 0 while the normal force is 0 (2D; 0 in 3D and in other scenes)",
     }
@@ -123,13 +79,12 @@ pub fn load_outputs(st: &State, cfg: &SceneConfig) -> DropOutputs {
         }
     }
     let centre = if total != 0.0 { moment / total } else { 0.0 };
-    let values: Vec<f64> = normal
-        .iter()
-        .chain(&tangential)
-        .map(|f| f / width)
-        .chain([moment, if centre.is_finite() { centre } else { 0.0 }])
-        .collect();
-    out.take_values(&values);
+    for k in 0..WALL_BINS {
+        out.wall_pressure[k] = normal[k] / width;
+        out.wall_shear[k] = tangential[k] / width;
+    }
+    out.wall_moment = moment;
+    out.wall_centre_of_pressure = if centre.is_finite() { centre } else { 0.0 };
     out
 }
 

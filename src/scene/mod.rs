@@ -20,7 +20,7 @@ pub use configuration::{Inputs, MAX_PARTICLES};
 pub use report::{time_text, NoPredictions, Prediction, Predictions, TimePlot, TimePlotPanel};
 pub use table::{
     input_rows, name_variable, name_variable_by_vr, name_variables, output_index, param_by_vr,
-    param_spec, NAME_SUFFIX, NAME_VR_OFFSET, OUTPUTS, PARAMS,
+    param_spec, NAME_SUFFIX, NAME_VR_OFFSET, OUTPUTS, OUTPUT_ARRAYS, PARAMS,
 };
 
 use crate::boundary::wall::Wall;
@@ -29,7 +29,7 @@ use crate::config::{
     ConfigError, FluidParams, IsphFreeSurface, Numerics, ParamGroup, ParamSpec, ParamValue,
     PlateParams, Value,
 };
-use crate::diagnostics::{OutputGroup, OutputSpec, SharedOutputs};
+use crate::diagnostics::{OutputArray, OutputGroup, OutputSpec, SharedOutputs};
 use crate::dim::Tensor;
 use crate::neighbors::Domain;
 use crate::particles::Fluid;
@@ -390,8 +390,13 @@ macro_rules! scenes {
         impl Outputs {
             /// The output rows in group order (the shared group first, then the scenes').
             fn collect_rows(out: &mut Vec<&'static OutputSpec>) {
-                out.extend(SharedOutputs::ROWS);
-                $(out.extend(<$module::$scene as SceneType>::Outputs::ROWS);)+
+                out.extend(SharedOutputs::rows());
+                $(out.extend(<$module::$scene as SceneType>::Outputs::rows());)+
+            }
+            /// The array rows in group order.
+            fn collect_arrays(out: &mut Vec<&'static OutputArray>) {
+                out.extend(SharedOutputs::ARRAYS);
+                $(out.extend(<$module::$scene as SceneType>::Outputs::ARRAYS);)+
             }
             /// The values in group order.
             fn group_values(&self) -> Vec<f64> {

@@ -5,7 +5,7 @@
 
 use super::{Outputs, SceneConfig};
 use crate::config::{Kind, ParamGroup, ParamSpec};
-use crate::diagnostics::OutputSpec;
+use crate::diagnostics::{OutputArray, OutputSpec};
 use std::sync::LazyLock;
 
 /// Every parameter row, sorted by value reference.
@@ -27,6 +27,15 @@ fn declared_rows() -> Vec<&'static ParamSpec> {
 pub static OUTPUTS: LazyLock<Vec<&'static OutputSpec>> = LazyLock::new(|| {
     let mut rows = group_output_rows();
     rows.sort_by_key(|o| o.value_reference);
+    rows
+});
+
+/// Every array row ([`OutputArray`]: its elements are rows of [`OUTPUTS`]), sorted by the FMI
+/// 3.0 array variable's value reference.
+pub static OUTPUT_ARRAYS: LazyLock<Vec<&'static OutputArray>> = LazyLock::new(|| {
+    let mut rows = Vec::new();
+    Outputs::collect_arrays(&mut rows);
+    rows.sort_by_key(|a| a.value_reference);
     rows
 });
 

@@ -49,7 +49,12 @@ class Log3:
 
 
 def outputs(md):
-    return [v for v in md.modelVariables if v.causality == "output"]
+    """The scalar outputs (the FMI 2.0 FMU's); the arrays are views of some of them."""
+    return [v for v in md.modelVariables if v.causality == "output" and not v.dimensions]
+
+
+def arrays(md):
+    return [v for v in md.modelVariables if v.causality == "output" and v.dimensions]
 
 
 def test_fmi3_fmu_validates_and_holds_the_three_platforms(fmu3):
@@ -124,6 +129,42 @@ def test_plate_input_moves_the_plate_and_state_restores_bitwise(unzip3):
         s.doStep(t, STEP)
         t += STEP
     assert s.getFloat64(out) == first
+    s.terminate()
+    s.freeInstance()
+
+
+def test_plate_load_arrays_are_the_scalar_bins_and_integrate_to_the_wall_force(unzip3):
+    """wall_pressure and wall_shear (FMI 3.0 arrays of 24, read with nValues = 24) equal their
+    scalar elements wall_pressure_001..024 bitwise, and the bins times the bin length (6 D / 24)
+    sum to wall_force_normal and wall_force_tangential within 1e-12 of the force."""
+    md = read_model_description(str(unzip3 / "modelDescription.xml"))
+    by_name = {v.name: v for v in arrays(md)}
+    assert sorted(by_name) == ["wall_pressure", "wall_shear"]
+    assert [int(d.start) for d in by_name["wall_pressure"].dimensions] == [24]
+    assert (by_name["wall_pressure"].valueReference, by_name["wall_shear"].valueReference) == (180, 181)
+    log = Log3()
+    s = slave(unzip3, md, log)
+    s.setInt32([vr_of(md, "threads")], [1])
+    s.setFloat64([vr_of(md, "initial_drop_height")], [0.012])
+    s.enterInitializationMode(startTime=0.0)
+    s.exitInitializationMode()
+    width = 6.0 * 0.02 / 24
+    forces = [vr_of(md, "wall_force_normal"), vr_of(md, "wall_force_tangential")]
+    seen, t, h = 0, 0.0, 2e-4
+    for _ in range(20):
+        s.doStep(t, h)
+        t += h
+        f_n, f_t = s.getFloat64(forces)
+        scale = max(abs(f_n), abs(f_t), 1e-300)
+        for name, force in [("wall_pressure", f_n), ("wall_shear", f_t)]:
+            array = s.getFloat64([by_name[name].valueReference], nValues=24)
+            scalars = s.getFloat64([vr_of(md, f"{name}_{k:03d}") for k in range(1, 25)])
+            assert list(array) == list(scalars), name
+            assert abs(sum(array) * width - force) <= 1e-12 * scale, name
+        # the time of the communication point, from the independent variable
+        assert s.getFloat64([0]) == [pytest.approx(t, abs=1e-15)]
+        seen += f_n > 0
+    assert seen > 3
     s.terminate()
     s.freeInstance()
 

@@ -3,6 +3,7 @@
 
 use super::*;
 use crate::config::{Kind, ParamSpec, Value};
+use crate::fmi3::TIME_VR;
 use crate::scene::{input_rows, name_variable_by_vr, param_by_vr, NAME_SUFFIX};
 
 /// Which integer parameters an integer accessor reads and writes.
@@ -35,9 +36,16 @@ pub(super) enum Var {
     /// The String twin of an Enumeration parameter ([`crate::config::name_variables`]).
     Name(&'static ParamSpec),
     Output(usize),
+    /// The independent variable `time` of FMI 3.0 (value reference [`TIME_VR`], which FMI 2.0
+    /// does not use): readable, like every variable, never settable (its value is set by
+    /// `fmi3EnterInitializationMode`'s startTime and `fmi3DoStep`).
+    Time,
 }
 
-pub(super) fn lookup(vr: u32) -> Option<Var> {
+pub(super) fn lookup(api: Api, vr: u32) -> Option<Var> {
+    if api == Api::Fmi3 && vr == TIME_VR {
+        return Some(Var::Time);
+    }
     if let Some(p) = param_by_vr(vr) {
         return Some(Var::Param(p));
     }
@@ -67,7 +75,7 @@ pub(super) fn unknown_vr(vr: u32) -> Fail {
 /// The FMI type name of a variable, for "use fmi2GetInteger instead" messages.
 pub(super) fn type_of(v: &Var) -> &'static str {
     match v {
-        Var::Output(_) => "Real",
+        Var::Output(_) | Var::Time => "Real",
         Var::Name(_) => "String",
         Var::Param(p) => match p.kind {
             Kind::Real { .. } => "Real",
@@ -80,6 +88,7 @@ pub(super) fn type_of(v: &Var) -> &'static str {
 pub(super) fn name_of(v: &Var) -> String {
     match v {
         Var::Output(i) => OUTPUTS[*i].name.to_string(),
+        Var::Time => "time".to_string(),
         Var::Param(p) => p.name.to_string(),
         Var::Name(p) => format!("{}{NAME_SUFFIX}", p.name),
     }
@@ -128,7 +137,7 @@ impl Instance {
             || format!("vr={vrs:?}"),
             |s| {
                 for (k, &vr) in vrs.iter().enumerate() {
-                    let var = lookup(vr).ok_or_else(|| unknown_vr(vr))?;
+                    let var = lookup(s.api, vr).ok_or_else(|| unknown_vr(vr))?;
                     values[k] = value(s, vr, &var)?;
                 }
                 Ok(Status::Ok)
@@ -150,6 +159,7 @@ impl Instance {
                 (Kind::Real { .. }, Ok(Value::Real(x))) => Ok(x),
                 _ => Err(wrong_type(vr, var, "Get")),
             },
+            Var::Time => Ok(s.t_comm),
             Var::Name(_) => Err(wrong_type(vr, var, "Get")),
         })
     }
@@ -201,7 +211,7 @@ impl Instance {
             |s| {
                 let mut cfg = s.cfg.clone();
                 for (&vr, x) in vrs.iter().zip(values) {
-                    let var = lookup(vr).ok_or_else(|| unknown_vr(vr))?;
+                    let var = lookup(s.api, vr).ok_or_else(|| unknown_vr(vr))?;
                     match &var {
                         Var::Name(p) => {
                             let Some(text) = x else {
@@ -231,7 +241,7 @@ impl Instance {
             func,
             mask::GET,
             || format!("vr={vrs:?}"),
-            |_| no_variables_of_type(vrs, "Get"),
+            |s| no_variables_of_type(s.api, vrs, "Get"),
         )
     }
 
@@ -241,7 +251,7 @@ impl Instance {
             func,
             mask::SET,
             || format!("vr={vrs:?}"),
-            |_| no_variables_of_type(vrs, "Set"),
+            |s| no_variables_of_type(s.api, vrs, "Set"),
         )
     }
 
@@ -301,7 +311,7 @@ impl Instance {
                 let stepping = s.phase == Phase::StepComplete;
                 let mut cfg = s.cfg.clone();
                 for (&vr, &x) in vrs.iter().zip(values) {
-                    let var = lookup(vr).ok_or_else(|| unknown_vr(vr))?;
+                    let var = lookup(s.api, vr).ok_or_else(|| unknown_vr(vr))?;
                     match &var {
                         Var::Param(p) if stepping && !p.is_input() => {
                             return error(format!(
@@ -315,6 +325,12 @@ impl Instance {
                             .set(p.name, value(x))
                             .map_err(|e| Fail::Error(e.to_string()))?,
                         Var::Output(i) => return Err(output_cannot_be_set(vr, *i)),
+                        Var::Time => {
+                            return error(format!(
+                                "'time' (valueReference {vr}) is the independent variable and cannot be set: \
+                                 its value is the startTime of fmi2SetupExperiment, then the end of each fmi2DoStep"
+                            ))
+                        }
                         _ => return Err(wrong_type(vr, &var, "Set")),
                     }
                 }
@@ -347,10 +363,10 @@ impl Instance {
     }
 }
 
-pub(super) fn no_variables_of_type(vrs: &[u32], verb: &str) -> Answer {
+pub(super) fn no_variables_of_type(api: Api, vrs: &[u32], verb: &str) -> Answer {
     match vrs.first() {
         None => Ok(Status::Ok),
-        Some(&vr) => match lookup(vr) {
+        Some(&vr) => match lookup(api, vr) {
             None => Err(unknown_vr(vr)),
             Some(v) => Err(wrong_type(vr, &v, verb)),
         },

@@ -487,3 +487,98 @@ fn wrong_calls_answer_error_in_fmi3_words() {
     assert!(log.iter().all(|m| !m.contains("fmi2")), "{log:?}");
     assert_eq!(unsafe { CStr::from_ptr(fmi3GetVersion()) }, c"3.0");
 }
+
+/// The FMI 3.0 array variables `wall_pressure` and `wall_shear` hold their scalar elements
+/// bitwise (FMI 3.0 section 2.2.6.2: `nValues` counts the array's elements), and `time` (value
+/// reference 0) reads the current communication point and cannot be set.
+#[test]
+fn arrays_are_their_elements_and_time_is_the_communication_point() {
+    use crate::scene::OUTPUT_ARRAYS;
+    let mut log = Box::default();
+    unsafe {
+        let c = small_instance(&mut log);
+        assert_eq!(
+            fmi3EnterInitializationMode(c, false, 0.0, 0.5, true, 0.66),
+            OK
+        );
+        assert_eq!(fmi3ExitInitializationMode(c), OK);
+        let time = [crate::fmi3::TIME_VR];
+        let mut t = [f64::NAN];
+        assert_eq!(fmi3GetFloat64(c, time.as_ptr(), 1, t.as_mut_ptr(), 1), OK);
+        assert_eq!(t[0], 0.5);
+        let mut now = 0.5;
+        while now < 0.5 + 0.008 {
+            assert_eq!(step(c, now, 0.004).0, OK);
+            now += 0.004;
+        }
+        assert_eq!(fmi3GetFloat64(c, time.as_ptr(), 1, t.as_mut_ptr(), 1), OK);
+        assert_eq!(t[0], now);
+        assert_eq!(
+            fmi3SetFloat64(c, time.as_ptr(), 1, [1.0].as_ptr(), 1),
+            ERROR
+        );
+        assert!(
+            log.last().unwrap().contains("independent variable"),
+            "{log:?}"
+        );
+        assert_eq!(fmi3Reset(c), OK);
+        assert_eq!(
+            fmi3EnterInitializationMode(c, false, 0.0, 0.0, false, 0.0),
+            OK
+        );
+        assert_eq!(fmi3ExitInitializationMode(c), OK);
+        // Into the impact (the drop's gap of 0.03 m at 1 m/s), so that the bins hold load.
+        for k in 0..10 {
+            assert_eq!(step(c, 0.004 * k as f64, 0.004).0, OK);
+        }
+        assert_eq!(OUTPUT_ARRAYS.len(), 2);
+        let mut normal_load = 0.0;
+        for a in OUTPUT_ARRAYS.iter() {
+            let elements: Vec<u32> = (0..a.len as u32).map(|k| a.first_element_vr + k).collect();
+            let mut scalars = vec![f64::NAN; a.len];
+            assert_eq!(
+                fmi3GetFloat64(c, elements.as_ptr(), a.len, scalars.as_mut_ptr(), a.len),
+                OK
+            );
+            // The array alone, then between two scalars: nValues = len + 2.
+            let mut array = vec![f64::NAN; a.len];
+            let one = [a.value_reference];
+            assert_eq!(
+                fmi3GetFloat64(c, one.as_ptr(), 1, array.as_mut_ptr(), a.len),
+                OK
+            );
+            assert_eq!(bits(&array), bits(&scalars), "{}", a.name);
+            let mixed = [
+                output_vr("drop_width"),
+                a.value_reference,
+                output_vr("wall_moment"),
+            ];
+            let mut v = vec![f64::NAN; a.len + 2];
+            assert_eq!(
+                fmi3GetFloat64(c, mixed.as_ptr(), 3, v.as_mut_ptr(), a.len + 2),
+                OK
+            );
+            assert_eq!(bits(&v[1..=a.len]), bits(&scalars));
+            // nValues that does not count the elements is refused.
+            assert_eq!(
+                fmi3GetFloat64(c, one.as_ptr(), 1, array.as_mut_ptr(), 1),
+                ERROR
+            );
+            assert!(log.last().unwrap().contains("nValues = 1"), "{log:?}");
+            assert_eq!(fmi3Reset(c), OK);
+            assert_eq!(
+                fmi3EnterInitializationMode(c, false, 0.0, 0.0, false, 0.0),
+                OK
+            );
+            assert_eq!(fmi3ExitInitializationMode(c), OK);
+            for k in 0..10 {
+                assert_eq!(step(c, 0.004 * k as f64, 0.004).0, OK);
+            }
+            if a.name == "wall_pressure" {
+                normal_load = scalars.iter().sum::<f64>();
+            }
+        }
+        assert!(normal_load > 0.0, "the drop loads the plate by 40 ms");
+        fmi3FreeInstance(c);
+    }
+}
