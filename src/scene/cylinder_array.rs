@@ -39,7 +39,7 @@
 //! state the body force equals drag plus wall shear (the continuum's `rho g A_fluid = F_cyl +
 //! F_walls`; test `the_momentum_balance_closes_at_steady_state`).
 
-use super::{Outputs, Predictions, Scene, SceneConfig, SceneType, SchemeKind};
+use super::{Outputs, Predictions, Scene, SceneConfig, SceneType};
 use crate::boundary::plate::Plate;
 use crate::boundary::wall::Wall;
 use crate::config::{real, real_pos, ConfigError};
@@ -348,7 +348,7 @@ impl Scene for CylinderArray {
         };
         // Mirror walls: rings round the cylinder (module documentation, "Lattice"), the square
         // lattice from `rings` spacings on.
-        let rings = if cfg.scheme == SchemeKind::Isph {
+        let rings = if matches!(cfg.scheme.paper_wall_model(), crate::boundary::Model::Mirror) {
             ring_count(cfg)
         } else {
             0
