@@ -140,6 +140,30 @@ unsafe fn small_instance(log: &mut Box<Log>) -> fmi3Instance {
     c
 }
 
+/// Reset `c` and step it from t = 0 into the impact (the drop's gap of 0.03 m at 1 m/s), so
+/// that the plate-load bins hold load.
+unsafe fn restart_into_the_impact(c: fmi3Instance) {
+    assert_eq!(fmi3Reset(c), OK);
+    assert_eq!(
+        fmi3EnterInitializationMode(c, false, 0.0, 0.0, false, 0.0),
+        OK
+    );
+    assert_eq!(fmi3ExitInitializationMode(c), OK);
+    for k in 0..10 {
+        assert_eq!(step(c, 0.004 * k as f64, 0.004).0, OK);
+    }
+}
+
+/// [`small_instance`] initialised at `start` with the stop time `stop`, in Step Mode.
+unsafe fn stepping_instance(log: &mut Box<Log>, start: f64, stop: Option<f64>) -> fmi3Instance {
+    let c = small_instance(log);
+    let status =
+        fmi3EnterInitializationMode(c, false, 0.0, start, stop.is_some(), stop.unwrap_or(0.0));
+    assert_eq!(status, OK);
+    assert_eq!(fmi3ExitInitializationMode(c), OK);
+    c
+}
+
 /// The same small drop on the core directly, as the FMI 2.0 entry points drive it.
 fn small_core() -> Instance {
     let mut i = Instance::new("drop", false, Box::new(|_, _, _| {}));
@@ -203,12 +227,7 @@ unsafe fn step(c: fmi3Instance, t: f64, h: f64) -> (fmi3Status, bool, f64) {
 fn the_drop_through_fmi3_is_the_fmi2_drop_bitwise() {
     let mut log = Box::default();
     unsafe {
-        let c = small_instance(&mut log);
-        assert_eq!(
-            fmi3EnterInitializationMode(c, false, 0.0, 0.0, true, 0.16),
-            OK
-        );
-        assert_eq!(fmi3ExitInitializationMode(c), OK);
+        let c = stepping_instance(&mut log, 0.0, Some(0.16));
         let mut core = small_core();
         assert_eq!(core.setup_experiment(None, 0.0, Some(0.16)), Status::Ok);
         assert_eq!(core.enter_initialization_mode(), Status::Ok);
@@ -256,12 +275,7 @@ fn small_core_initial_height() -> f64 {
 fn fmu_state_save_and_restore_are_bitwise() {
     let mut log = Box::default();
     unsafe {
-        let c = small_instance(&mut log);
-        assert_eq!(
-            fmi3EnterInitializationMode(c, false, 0.0, 0.0, false, 0.0),
-            OK
-        );
-        assert_eq!(fmi3ExitInitializationMode(c), OK);
+        let c = stepping_instance(&mut log, 0.0, None);
         assert_eq!(step(c, 0.0, 0.002).0, OK);
         let mut s: fmi3FMUState = ptr::null_mut();
         assert_eq!(fmi3GetFMUState(c, &mut s), OK);
@@ -298,12 +312,7 @@ fn the_plate_input_moves_the_plate() {
     let v = -0.5;
     let input = [vr("plate_velocity")];
     unsafe {
-        let c = small_instance(&mut log);
-        assert_eq!(
-            fmi3EnterInitializationMode(c, false, 0.0, 0.0, false, 0.0),
-            OK
-        );
-        assert_eq!(fmi3ExitInitializationMode(c), OK);
+        let c = stepping_instance(&mut log, 0.0, None);
         let mut core = small_core();
         assert_eq!(core.enter_initialization_mode(), Status::Ok);
         assert_eq!(core.exit_initialization_mode(), Status::Ok);
@@ -496,12 +505,7 @@ fn arrays_are_their_elements_and_time_is_the_communication_point() {
     use crate::scene::OUTPUT_ARRAYS;
     let mut log = Box::default();
     unsafe {
-        let c = small_instance(&mut log);
-        assert_eq!(
-            fmi3EnterInitializationMode(c, false, 0.0, 0.5, true, 0.66),
-            OK
-        );
-        assert_eq!(fmi3ExitInitializationMode(c), OK);
+        let c = stepping_instance(&mut log, 0.5, Some(0.66));
         let time = [crate::fmi3::TIME_VR];
         let mut t = [f64::NAN];
         assert_eq!(fmi3GetFloat64(c, time.as_ptr(), 1, t.as_mut_ptr(), 1), OK);
@@ -521,16 +525,7 @@ fn arrays_are_their_elements_and_time_is_the_communication_point() {
             log.last().unwrap().contains("independent variable"),
             "{log:?}"
         );
-        assert_eq!(fmi3Reset(c), OK);
-        assert_eq!(
-            fmi3EnterInitializationMode(c, false, 0.0, 0.0, false, 0.0),
-            OK
-        );
-        assert_eq!(fmi3ExitInitializationMode(c), OK);
-        // Into the impact (the drop's gap of 0.03 m at 1 m/s), so that the bins hold load.
-        for k in 0..10 {
-            assert_eq!(step(c, 0.004 * k as f64, 0.004).0, OK);
-        }
+        restart_into_the_impact(c);
         assert_eq!(OUTPUT_ARRAYS.len(), 2);
         let mut normal_load = 0.0;
         for a in OUTPUT_ARRAYS.iter() {
@@ -565,15 +560,7 @@ fn arrays_are_their_elements_and_time_is_the_communication_point() {
                 ERROR
             );
             assert!(log.last().unwrap().contains("nValues = 1"), "{log:?}");
-            assert_eq!(fmi3Reset(c), OK);
-            assert_eq!(
-                fmi3EnterInitializationMode(c, false, 0.0, 0.0, false, 0.0),
-                OK
-            );
-            assert_eq!(fmi3ExitInitializationMode(c), OK);
-            for k in 0..10 {
-                assert_eq!(step(c, 0.004 * k as f64, 0.004).0, OK);
-            }
+            restart_into_the_impact(c);
             if a.name == "wall_pressure" {
                 normal_load = scalars.iter().sum::<f64>();
             }
