@@ -4,13 +4,13 @@ them may crash the process, and each must say why through the logger."""
 
 import ctypes
 import math
+import re
 
 import numpy as np
 import pytest
 from fmpy.fmi1 import FMICallException
 
-from viscosph_fmu import (DISCARD, ERROR, LAST_SUCCESSFUL_TIME, TERMINATED, Log, Slave,
-                          simulate)
+from viscosph_fmu import DISCARD, ERROR, Log, Slave, simulate
 
 BAD_VALUES = [
     # (start values, fragments the log message must contain)
@@ -169,82 +169,120 @@ def test_debug_logging_categories_are_honoured_and_messages_are_not_formats(unzi
     quiet.free()
 
 
-def test_a_numerical_breakdown_is_a_discard_with_time_and_cause(fmu, unzipdir):
+# The words a discarded step uses for where the last good state is told and how to keep it:
+# FMI 2.0's status query and FMUstate calls, FMI 3.0's out-argument of fmi3DoStep and FMUState calls.
+DISCARD_WORDS = {"fmi2": ["fmi2LastSuccessfulTime", "fmi2GetFMUstate", "fmi2SetFMUstate"],
+                 "fmi3": ["lastSuccessfulTime of fmi3DoStep", "fmi3GetFMUState", "fmi3SetFMUState"]}
+
+
+def assert_in_words_of(api, msg):
+    assert all(w in msg for w in DISCARD_WORDS[api]), msg
+    assert api == "fmi2" or "fmi2" not in msg, msg
+
+
+def test_a_numerical_breakdown_is_a_discard_with_time_and_cause(fmi):
     # A sound speed below the impact velocity: the weakly compressible fluid compresses by more
     # than 30 % and the health check stops the run.
     breakdown = {"sound_speed": 1.0, "particles_per_diameter": 12}
     log = Log()
-    result = simulate(fmu, breakdown, stop_time=0.1, logger=log)
-    t_end = result["time"][-1]
-    assert 0.0 < t_end < 0.1, "fmpy stopped at the last successful time"
-    assert all(np.isfinite(result[n]).all() for n in result.dtype.names)
+    if fmi.api == "fmi2":
+        result = simulate(fmi.fmu, breakdown, stop_time=0.1, logger=log)
+        assert 0.0 < result["time"][-1] < 0.1, "fmpy stopped at the last successful time"
+        assert all(np.isfinite(result[n]).all() for n in result.dtype.names)
+    else:
+        # fmpy's FMI 3.0 simulate_fmu does not handle fmi3Discard: it raises
+        with pytest.raises(FMICallException) as e:
+            simulate(fmi.fmu, breakdown, stop_time=0.1, logger=log)
+        assert e.value.status == DISCARD
     msg = log.messages(DISCARD)[-1]
-    assert "fmi2DoStep" in msg and "breakdown at t =" in msg and "density" in msg, msg
+    assert f"{fmi.api}DoStep" in msg and "breakdown at t =" in msg and "density" in msg, msg
+    assert_in_words_of(fmi.api, msg)
+    stops = {"fmi2": "(fmi2Terminated)", "fmi3": "(terminateSimulation of fmi3DoStep)"}
+    assert stops[fmi.api] in msg, msg
+    t_end = float(re.search(r"the last good state, at t = (\S+) s", msg).group(1))
+    assert 0.0 < t_end < 0.1
+    if fmi.api == "fmi2":
+        assert t_end == pytest.approx(result["time"][-1])
 
-    s = Slave(unzipdir).initialize(reals={"sound_speed": 1.0},
-                                   integers={"particles_per_diameter": 12})
+    s = Slave(fmi.unzipdir).initialize(reals={"sound_speed": 1.0},
+                                       integers={"particles_per_diameter": 12})
     with pytest.raises(FMICallException) as e:
         s.step_to(0.1, 1e-3)
     assert e.value.status == DISCARD
-    assert s.fmu.getBooleanStatus(TERMINATED)
-    last = s.fmu.getRealStatus(LAST_SUCCESSFUL_TIME)
+    assert s.terminated()
+    last = s.last_successful_time()
     assert last == pytest.approx(t_end)
+    assert s.t <= last < s.t + 1e-3, "within the discarded communication step"
     assert np.isfinite(s.outputs()).all()
-    state = s.fmu.getFMUstate()  # the last good state, a completed step at `last`
+    state = s.get_state()  # the last good state, a completed step at `last`
     with pytest.raises(FMICallException):
-        s.fmu.doStep(s.t, 1e-3)  # StepFailed: no further steps
-    s.fmu.setFMUstate(state)
-    assert s.fmu.getRealStatus(LAST_SUCCESSFUL_TIME) == last
-    assert not s.fmu.getBooleanStatus(TERMINATED)
+        s.do_step(s.t, 1e-3)  # StepFailed: no further steps
+    assert f"{fmi.api}DoStep" in s.log.messages(ERROR)[-1]
+    s.set_state(state)
+    if fmi.api == "fmi2":
+        assert s.last_successful_time() == last
+        assert not s.terminated()
+    else:
+        # FMI 3.0 has no status query: the independent variable tells where the state stands
+        assert s.get_reals(["time"]) == [last]
     with pytest.raises(FMICallException) as e:
-        s.fmu.doStep(last, 1e-3)  # stepping again from there: the same inputs break again
+        s.do_step(last, 1e-3)  # stepping again from there: the same inputs break again
     assert e.value.status == DISCARD
-    assert s.fmu.getRealStatus(LAST_SUCCESSFUL_TIME) == last
+    assert s.last_successful_time() == last and s.terminated()
     s.fmu.terminate()
     s.free()
 
 
-def test_a_step_past_its_budget_is_a_discard_and_the_master_goes_on(unzipdir):
-    s = Slave(unzipdir).initialize(integers={"particles_per_diameter": 12,
-                                             "max_steps_per_do_step": 5})
+def test_a_step_past_its_budget_is_a_discard_and_the_master_goes_on(fmi):
+    s = Slave(fmi.unzipdir).initialize(integers={"particles_per_diameter": 12,
+                                                 "max_steps_per_do_step": 5})
     t, discards = 0.0, 0
     while t < 0.004:
         try:
-            s.fmu.doStep(t, 0.004 - t)
+            s.do_step(t, 0.004 - t)
             t = 0.004
         except FMICallException as e:
             assert e.status == DISCARD
             msg = s.log.messages(DISCARD)[-1]
             assert "max_steps_per_do_step" in msg and "5 solver steps" in msg, msg
-            assert not s.fmu.getBooleanStatus(TERMINATED)
-            reached = s.fmu.getRealStatus(LAST_SUCCESSFUL_TIME)
+            assert f"{fmi.api}DoStep" in msg, msg
+            assert_in_words_of(fmi.api, msg)
+            assert not s.terminated()
+            reached = s.last_successful_time()
             assert t < reached < 0.004
-            s.fmu.setFMUstate(s.fmu.getFMUstate())
+            s.set_state(s.get_state())
             t, discards = reached, discards + 1
     assert discards >= 2
     assert np.isfinite(s.outputs()).all()
     s.free()
 
 
-def test_a_stop_time_of_too_many_steps_is_refused_with_the_estimate(fmu):
+def test_a_stop_time_of_too_many_steps_is_refused_with_the_estimate(fmi):
     log = Log()
     with pytest.raises(FMICallException) as e:
-        simulate(fmu, {"particles_per_diameter": 8}, stop_time=1e9, step=1e8, logger=log)
+        simulate(fmi.fmu, {"particles_per_diameter": 8}, stop_time=1e9, step=1e8, logger=log)
     assert e.value.status == ERROR
     msg = log.messages(ERROR)[0]
-    assert "fmi2ExitInitializationMode" in msg and "stopTime" in msg, msg
+    assert f"{fmi.api}ExitInitializationMode" in msg and "stopTime" in msg, msg
     assert "would take about" in msg and "more than 1e8" in msg, msg
+    # where the stopTime came from: fmi2SetupExperiment, or fmi3EnterInitializationMode
+    given = {"fmi2": "fmi2SetupExperiment", "fmi3": "fmi3EnterInitializationMode"}[fmi.api]
+    assert given in msg and ("fmi2" in msg) == (fmi.api == "fmi2"), msg
 
 
-def test_an_infinite_step_must_be_finite_and_later_calls_name_the_error_state(unzipdir):
-    s = Slave(unzipdir).initialize(integers={"particles_per_diameter": 8})
+def test_an_infinite_step_must_be_finite_and_later_calls_name_the_error_state(fmi):
+    s = Slave(fmi.unzipdir).initialize(integers={"particles_per_diameter": 8})
     with pytest.raises(FMICallException) as e:
-        s.fmu.doStep(0.0, math.inf)
+        s.do_step(0.0, math.inf)
     assert e.value.status == ERROR
-    assert "must be finite" in s.log.messages(ERROR)[-1]
-    with pytest.raises(FMICallException):
-        s.fmu.doStep(0.0, 1e-3)
+    first = s.log.messages(ERROR)[-1]
+    assert "must be finite" in first and f"{fmi.api}DoStep" in first, first
+    with pytest.raises(FMICallException) as e:
+        s.do_step(0.0, 1e-3)
+    assert e.value.status == ERROR
     msg = s.log.messages(ERROR)[-1]
-    assert "state Error" in msg and "fmi2DoStep returned fmi2Error" in msg, msg
+    assert "state Error" in msg and f"{fmi.api}DoStep returned {fmi.api}Error" in msg, msg
     assert "Terminated" not in msg, msg
+    if fmi.api == "fmi3":
+        assert "fmi2" not in msg, msg
     s.free()

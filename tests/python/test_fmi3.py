@@ -12,40 +12,10 @@ from fmpy.fmi1 import FMICallException
 from fmpy.fmi3 import FMU3Slave
 from fmpy.validation import validate_fmu
 
-from viscosph_fmu import FMU, ROOT, build_fmu, simulate
+from viscosph_fmu import FMU, Log, simulate
 
-FMU3 = ROOT / "target" / "fmu" / "ViscoSPH-fmi3.fmu"
 STOP, STEP = 0.04, 1e-3
 SMALL = {"particles_per_diameter": 14}
-
-
-@pytest.fixture(scope="module")
-def fmu3(fmu):
-    # fmu-build writes both FMUs; the fixture `fmu` builds them if the FMI 2.0 one is absent
-    if not FMU3.is_file():
-        build_fmu()
-    return str(FMU3)
-
-
-@pytest.fixture(scope="module")
-def unzip3(fmu3, tmp_path_factory):
-    d = tmp_path_factory.mktemp("ViscoSPH-fmi3")
-    with zipfile.ZipFile(fmu3) as z:
-        z.extractall(d)
-    return d
-
-
-class Log3:
-    """An FMI 3.0 logMessage callback that records (status, category, message)."""
-
-    def __init__(self):
-        self.records = []
-
-    def __call__(self, env, status, category, message):
-        self.records.append((status, category.decode(), message.decode()))
-
-    def messages(self):
-        return [m for _, _, m in self.records]
 
 
 def outputs(md):
@@ -72,7 +42,7 @@ def test_simulate_fmu_gives_the_fmi2_outputs(fmu3):
     md = read_model_description(fmu3)
     names = [v.name for v in outputs(md)]
     three = simulate_fmu(fmu3, fmi_type="CoSimulation", start_values=SMALL, stop_time=STOP,
-                         output_interval=STEP, output=names, logger=Log3())
+                         output_interval=STEP, output=names, logger=Log())
     two = simulate(str(FMU), start_values=SMALL, stop_time=STOP, step=STEP)
     assert len(three) == len(two) == int(round(STOP / STEP)) + 1
     for n in names:
@@ -94,7 +64,7 @@ def vr_of(md, name):
 
 def test_plate_input_moves_the_plate_and_state_restores_bitwise(unzip3):
     md = read_model_description(str(unzip3 / "modelDescription.xml"))
-    log = Log3()
+    log = Log()
     s = slave(unzip3, md, log)
     s.setInt32([vr_of(md, "particles_per_diameter")], [14])
     s.enterInitializationMode(startTime=0.0)
@@ -142,7 +112,7 @@ def test_plate_load_arrays_are_the_scalar_bins_and_integrate_to_the_wall_force(u
     assert sorted(by_name) == ["wall_pressure", "wall_shear"]
     assert [int(d.start) for d in by_name["wall_pressure"].dimensions] == [24]
     assert (by_name["wall_pressure"].valueReference, by_name["wall_shear"].valueReference) == (180, 181)
-    log = Log3()
+    log = Log()
     s = slave(unzip3, md, log)
     s.setInt32([vr_of(md, "threads")], [1])
     s.setFloat64([vr_of(md, "initial_drop_height")], [0.012])
@@ -171,7 +141,7 @@ def test_plate_load_arrays_are_the_scalar_bins_and_integrate_to_the_wall_force(u
 
 def test_a_refused_call_is_fmi3_error_in_fmi3_words(unzip3):
     md = read_model_description(str(unzip3 / "modelDescription.xml"))
-    log = Log3()
+    log = Log()
     s = slave(unzip3, md, log)
     with pytest.raises(FMICallException):
         s.doStep(0.0, STEP)

@@ -5,17 +5,18 @@ import numpy as np
 import pytest
 from fmpy.fmi1 import FMICallException
 
-from viscosph_fmu import Log, Slave
+from viscosph_fmu import DISCARD, WARNING, Log, Slave
 
 H = 2e-4
 BINS = 24  # scene::drop::WALL_BINS
 
 
-def test_the_plate_input_ranges_are_declared(md):
-    v = {x.name: x for x in md.modelVariables}
+def test_the_plate_input_ranges_are_declared(fmi):
+    v = {x.name: x for x in fmi.md.modelVariables}
     for name in ("plate_velocity", "plate_position"):
         assert v[name].causality == "input"
         assert v[name].min is not None and v[name].max is not None
+        assert float(v[name].min) < 0.0 < float(v[name].max), name
     assert v["max_plate_speed"].causality == "parameter"
     assert float(v["max_plate_speed"].start) == 1.0
     assert v["max_jet_velocity"].causality == "parameter"
@@ -23,21 +24,33 @@ def test_the_plate_input_ranges_are_declared(md):
 
 
 @pytest.mark.parametrize("speed", [-1.0, -5.0])
-def test_a_plate_driven_into_the_default_drop(unzipdir, speed):
+def test_a_plate_driven_into_the_default_drop(fmi, speed):
     """The default drop with the plate driven into it: -1 m/s (within max_plate_speed) runs,
-    -5 m/s warns at fmi2SetReal and is discarded by name at fmi2DoStep before any work."""
+    -5 m/s warns at fmi2SetReal / fmi3SetFloat64 and is discarded by name at fmi2DoStep /
+    fmi3DoStep before any work (lastSuccessfulTime stays at the start, no termination)."""
     log = Log()
-    s = Slave(unzipdir, logger=log)
+    s = Slave(fmi.unzipdir, logger=log, debug=True)  # warnings are logged with loggingOn
     s.initialize(reals={"initial_drop_height": 0.012}, integers={"threads": 1})
-    s.fmu.setReal([s.vr["plate_velocity"]], [speed])
+    s.set_reals({"plate_velocity": speed})
     if speed == -1.0:
+        assert log.messages(WARNING) == []
         s.step_to(0.004, H)
-        assert s.fmu.getReal([s.vr["plate_displacement"]])[0] == pytest.approx(-0.004, rel=1e-9)
+        assert s.get_reals(["plate_displacement"])[0] == pytest.approx(-0.004, rel=1e-9)
     else:
-        with pytest.raises(FMICallException):
-            s.fmu.doStep(0.0, H)
+        warning = log.messages(WARNING)[-1]
+        assert "plate_velocity" in warning and "max_plate_speed" in warning, warning
+        setter = {"fmi2": "fmi2SetReal", "fmi3": "fmi3SetFloat64"}[fmi.api]
+        assert warning.startswith(setter + ":"), warning
+        with pytest.raises(FMICallException) as e:
+            s.do_step(0.0, H)
+        assert e.value.status == DISCARD
         text = log.text()
         assert "plate_velocity = -5 m/s" in text and "max_plate_speed = 1 m/s" in text
+        msg = log.messages(DISCARD)[-1]
+        assert f"{fmi.api}DoStep" in msg and "Nothing was computed" in msg, msg
+        assert fmi.api == "fmi2" or "fmi2" not in msg, msg
+        assert s.last_successful_time() == 0.0 and not s.terminated()
+        assert s.get_reals(["plate_displacement"]) == [0.0]
     s.free()
 
 
