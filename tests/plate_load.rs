@@ -149,3 +149,19 @@ fn the_bins_are_zero_where_they_are_not_measured() {
     assert!(bins(&o, "wall_shear").iter().all(|&p| p == 0.0));
     assert_eq!(o.get("wall_moment"), Some(0.0));
 }
+
+/// The incompressible scheme's load by particle is bitwise the same for any thread count.
+#[test]
+fn the_isph_load_does_not_depend_on_the_thread_count() {
+    let load = |threads: i64| {
+        let mut c = drop_cfg("isph", 30.0);
+        c.set("threads", i(threads)).unwrap();
+        let mut sim = Simulation::new(c).unwrap();
+        sim.advance_to(0.003).unwrap();
+        assert_eq!(sim.state().plate_load.len(), sim.state().fluid.len());
+        sim.state().plate_load.clone()
+    };
+    let one = load(1);
+    assert!(one.iter().any(|f| f.norm() > 0.0));
+    assert_eq!(one, load(3));
+}
