@@ -93,9 +93,10 @@ pub struct State<const N: usize = 2> {
     pub wall_forces: Vec<Vector<N>>,
     /// The plate's part of `wall_force` by fluid particle (in the order of `fluid`, whose
     /// positions are those after the step) \[N/m\], global frame: the load along the plate
-    /// (`scene::drop`'s pressure and shear bins). Empty when the scheme does not split it per
-    /// particle (the incompressible scheme: its implicit viscous solve moves momentum between
-    /// neighbours and walls at once) or there is no plate.
+    /// (`scene::drop`'s pressure and shear bins). Empty when there is no plate, or under the
+    /// incompressible scheme with more than one wall (`scheme::isph`'s `plate_load`: with one
+    /// wall it books the plate's pair forces, its share of the implicit viscous solve and the
+    /// contact particle by particle).
     #[serde(default)]
     pub plate_load: Vec<Vector<N>>,
     /// Time integral of each wall's force since t = 0 \[N s/m\] (as `wall_forces`).

@@ -20,6 +20,9 @@ fn drop_cfg(scheme: &str, inclination: f64) -> SceneConfig {
     )
     .unwrap();
     c.set("particles_per_diameter", i(16)).unwrap();
+    if scheme == "isph" {
+        c.set("wall_boundary", s("auto")).unwrap();
+    }
     c
 }
 
@@ -34,12 +37,18 @@ fn integral(o: &Outputs, stem: &str, width: f64) -> f64 {
     bins(o, stem).iter().map(|p| p * width).sum()
 }
 
-/// The bins integrate to the total wall force, normal and tangential, to round-off, for both
-/// weakly compressible schemes and an inclined plate; the moment over the normal force is the
-/// centre of pressure.
+/// The bins integrate to the total wall force, normal and tangential, to round-off, for the
+/// three schemes and an inclined plate; the moment over the normal force is the centre of
+/// pressure.
 #[test]
 fn the_bins_integrate_to_the_wall_force() {
-    for (scheme, inclination) in [("wcsph", 0.0), ("pdri", 0.0), ("wcsph", 30.0)] {
+    for (scheme, inclination) in [
+        ("wcsph", 0.0),
+        ("pdri", 0.0),
+        ("wcsph", 30.0),
+        ("isph", 0.0),
+        ("isph", 30.0),
+    ] {
         let c = drop_cfg(scheme, inclination);
         let width = WALL_BIN_SPAN * c.drop.drop_diameter / WALL_BINS as f64;
         let mut sim = Simulation::new(c).unwrap();
@@ -86,7 +95,19 @@ fn the_bins_integrate_to_the_wall_force() {
 /// (against the load's own size).
 #[test]
 fn a_symmetric_impact_gives_symmetric_bins() {
-    let c = drop_cfg("wcsph", 0.0);
+    symmetric_bins("wcsph", 1e-9);
+}
+
+/// The same under the incompressible scheme, whose linear solves sum in index order and so
+/// are mirror-symmetric only to the solvers' tolerance (measured at t = 4 ms: bins 3.3e-9 of
+/// the peak, moment 5e-10 of the normal force times a bin length).
+#[test]
+fn a_symmetric_impact_gives_symmetric_bins_isph() {
+    symmetric_bins("isph", 1e-7);
+}
+
+fn symmetric_bins(scheme: &str, tol: f64) {
+    let c = drop_cfg(scheme, 0.0);
     let width = WALL_BIN_SPAN * c.drop.drop_diameter / WALL_BINS as f64;
     let mut sim = Simulation::new(c).unwrap();
     sim.advance_to(0.004).unwrap();
@@ -95,38 +116,30 @@ fn a_symmetric_impact_gives_symmetric_bins() {
     let peak = p.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     let shear = t.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     assert!(peak > 0.0 && shear > 0.0, "loaded: {p:?} {t:?}");
+    let f_n = o.shared.wall_force_normal;
+    let moment = o.get("wall_moment").unwrap();
     for k in 0..WALL_BINS {
         let m = WALL_BINS - 1 - k;
         assert!(
-            (p[k] - p[m]).abs() <= 1e-9 * peak,
+            (p[k] - p[m]).abs() <= tol * peak,
             "pressure bins {k}, {m}: {} {}",
             p[k],
             p[m]
         );
         assert!(
-            (t[k] + t[m]).abs() <= 1e-9 * peak,
+            (t[k] + t[m]).abs() <= tol * peak,
             "shear bins {k}, {m}: {} {}",
             t[k],
             t[m]
         );
     }
-    let f_n = o.shared.wall_force_normal;
-    let moment = o.get("wall_moment").unwrap();
-    assert!(moment.abs() <= 1e-9 * f_n * width, "{moment}");
-    assert!(o.get("wall_centre_of_pressure").unwrap().abs() <= 1e-9 * width);
+    assert!(moment.abs() <= tol * f_n * width, "{moment}");
+    assert!(o.get("wall_centre_of_pressure").unwrap().abs() <= tol * width);
 }
 
-/// Scenes other than the drop, and the incompressible scheme (which does not split the load by
-/// particle), hold 0 in every bin.
+/// Scenes other than the drop hold 0 in every bin.
 #[test]
 fn the_bins_are_zero_where_they_are_not_measured() {
-    let mut c = drop_cfg("isph", 0.0);
-    c.set("wall_boundary", s("auto")).unwrap();
-    let mut sim = Simulation::new(c).unwrap();
-    sim.advance_to(0.004).unwrap();
-    let o = sim.outputs();
-    assert!(o.shared.wall_force_normal > 0.0);
-    assert!(bins(&o, "wall_pressure").iter().all(|&p| p == 0.0));
     let mut c = SceneConfig::default();
     c.set("scene", s("channel")).unwrap();
     c.set("particles_per_diameter", i(8)).unwrap();
@@ -135,4 +148,20 @@ fn the_bins_are_zero_where_they_are_not_measured() {
     let o = sim.outputs();
     assert!(bins(&o, "wall_shear").iter().all(|&p| p == 0.0));
     assert_eq!(o.get("wall_moment"), Some(0.0));
+}
+
+/// The incompressible scheme's load by particle is bitwise the same for any thread count.
+#[test]
+fn the_isph_load_does_not_depend_on_the_thread_count() {
+    let load = |threads: i64| {
+        let mut c = drop_cfg("isph", 30.0);
+        c.set("threads", i(threads)).unwrap();
+        let mut sim = Simulation::new(c).unwrap();
+        sim.advance_to(0.003).unwrap();
+        assert_eq!(sim.state().plate_load.len(), sim.state().fluid.len());
+        sim.state().plate_load.clone()
+    };
+    let one = load(1);
+    assert!(one.iter().any(|f| f.norm() > 0.0));
+    assert_eq!(one, load(3));
 }

@@ -53,8 +53,8 @@ crate::outputs! {
 /// `wall_force_normal` and `wall_force_tangential` when the wetted plate lies within the span.
 /// In 2D a force per unit depth over a length is a pressure \[Pa\]. The moment about the impact
 /// point is sum s F_n over every particle (the tangential forces act on the plate line through
-/// it), and the centre of pressure is the moment over the normal force. Zero when the scheme does
-/// not give the load by particle (isph).
+/// it), and the centre of pressure is the moment over the normal force. Zero when the state has
+/// no load by particle.
 pub fn load_outputs(st: &State, cfg: &SceneConfig) -> DropOutputs {
     let mut out = DropOutputs::default();
     let Some(plate) = st.plate() else {

@@ -80,7 +80,8 @@ impl<R: Rheology> Isph<R> {
 
     /// Step 7, eq. (27): the new positions (Lagrangian frame), velocities `u_new` and
     /// conformations `conf`, the inlet's momentum `held_momentum`, then the plate contact.
-    /// Returns the momentum each wall gave the fluid by the contact (in the walls' order).
+    /// Returns the momentum each wall gave the fluid by the contact (in the walls' order) and
+    /// the plate's by particle (empty without a plate).
     pub(super) fn advect(
         &self,
         st: &mut State,
@@ -89,7 +90,7 @@ impl<R: Rheology> Isph<R> {
         u_new: Vec<Vec2>,
         conf: Vec<Mat2>,
         held_momentum: Vec2,
-    ) -> Vec<Vec2> {
+    ) -> (Vec<Vec2>, Vec<Vec2>) {
         let (dom, dt) = (self.p.domain, ctx.dt);
         let fl = &mut st.fluid;
         if ctx.lagrangian {
@@ -105,12 +106,18 @@ impl<R: Rheology> Isph<R> {
             fl.conf = conf;
         }
         let mut contacts = Vec::with_capacity(st.walls.len());
-        for wall in &st.walls {
-            let (m, reflections) = keep_out_of_wall(&mut st.fluid, wall, |_, _| {});
+        let mut plate_contact = vec![Vec2::zeros(); st.plate.map_or(0, |_| st.fluid.len())];
+        for (k, wall) in st.walls.iter().enumerate() {
+            let own = st.plate == Some(k);
+            let (m, reflections) = keep_out_of_wall(&mut st.fluid, wall, |i, m| {
+                if let Some(c) = plate_contact.get_mut(i).filter(|_| own) {
+                    *c += m;
+                }
+            });
             contacts.push(m);
             st.wall_reflections += reflections;
         }
-        contacts
+        (contacts, plate_contact)
     }
 }
 

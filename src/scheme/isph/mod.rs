@@ -106,6 +106,7 @@ pub mod advection;
 pub mod conformation;
 pub mod free_surface;
 pub mod neighbours;
+mod plate_load;
 pub mod ppe;
 pub mod predictor;
 pub mod pressure;
@@ -383,6 +384,8 @@ struct Books {
     /// Seconds in the pressure and the viscous solves.
     pub pressure_time: f64,
     pub viscous_time: f64,
+    /// The plate's force on each fluid particle, where the step books it ([`plate_load`]).
+    pub plate: plate_load::PlateBook,
 }
 
 impl<R: Rheology> Scheme for Isph<R> {
@@ -440,6 +443,7 @@ impl<R: Rheology> Scheme for Isph<R> {
             } else {
                 Vec::new()
             },
+            plate: plate_load::PlateBook::of(st),
             ..Default::default()
         };
 
@@ -453,7 +457,8 @@ impl<R: Rheology> Scheme for Isph<R> {
         let u_new = self.projection(&st.fluid, &ctx, &u_star, &pressure, &mut books);
 
         // Step 7: advection (27), then the plate contact and the books.
-        let contacts = self.advect(st, &ctx, &f.u_ps, u_new, conf, books.held_momentum);
+        let (contacts, plate_contact) =
+            self.advect(st, &ctx, &f.u_ps, u_new, conf, books.held_momentum);
         let contact = contacts.iter().fold(Vec2::zeros(), |a, m| a + m);
         for (fw, m) in books.per_wall.iter_mut().zip(&contacts) {
             *fw += m / dt;
@@ -469,6 +474,7 @@ impl<R: Rheology> Scheme for Isph<R> {
             books.per_wall.iter().map(|f| -f).collect()
         };
         st.book_wall_forces(per_wall, dt);
+        st.plate_load = std::mem::take(&mut books.plate).into_load(&plate_contact, dt);
         st.remap_impulse += books.remap_force * dt;
         st.pressure = if self.incremental(&ctx) {
             let p_n = self.previous_pressure(st, &ctx);

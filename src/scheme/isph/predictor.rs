@@ -112,6 +112,7 @@ impl<R: Rheology> Isph<R> {
         for (i, (remap, a, aw, by_wall)) in rows.iter().enumerate() {
             books.remap_force += remap * mass;
             books.wall_on_fluid += aw * mass;
+            books.plate.add(i, aw * mass);
             for (b, w) in books.per_wall.iter_mut().zip(by_wall) {
                 *b += w * mass;
             }
@@ -123,8 +124,9 @@ impl<R: Rheology> Isph<R> {
             let p_n = self.previous_pressure(st, ctx);
             let p_all = extend_pressure(ctx, &p_n, &self.pressure_offsets(ctx));
             let grad = self.pressure_accelerations(ctx, &p_all, walls);
-            for (r, (a, aw, by_wall)) in rhs.iter_mut().zip(grad) {
+            for (i, (r, (a, aw, by_wall))) in rhs.iter_mut().zip(grad).enumerate() {
                 books.wall_on_fluid += aw * mass;
+                books.plate.add(i, aw * mass);
                 for (b, w) in books.per_wall.iter_mut().zip(by_wall) {
                     *b += w * mass;
                 }

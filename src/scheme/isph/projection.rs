@@ -65,6 +65,7 @@ impl<R: Rheology> Isph<R> {
         let mut u_new = Vec::with_capacity(n);
         for (i, (a, aw, _, by_wall)) in proj.iter().enumerate() {
             books.wall_on_fluid += aw * mass;
+            books.plate.add(i, aw * mass);
             for (b, w) in books.per_wall.iter_mut().zip(by_wall) {
                 *b += w * mass;
             }

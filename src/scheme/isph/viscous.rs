@@ -99,6 +99,8 @@ impl<R: Rheology> Isph<R> {
             .map(|(w, c)| 2.0 * w + c)
             .collect();
         let mut u = rhs.clone();
+        // The plate's share by particle, at the solved velocities ([`super::plate_load`]).
+        let mut plate_terms = Vec::new();
         if ctx.surf.is_some() {
             // The solvent's surface traction, implicit (`free_surface`, "Free-surface
             // traction"): every row, k_i = 2 mu_i dt s_i / rho with s_i = sum_j V grad W_ij
@@ -143,6 +145,9 @@ impl<R: Rheology> Isph<R> {
             )
             .map_err(|e| format!("implicit viscous step: {e}"))?;
             books.iterations[1] = stats.iterations as u64;
+            if books.plate.is_on() {
+                plate_terms = self.viscous_wall_terms(ctx, &coef, theta, visc_curv, &u);
+            }
             // The free surface exerts no net force on the fluid, but this term is not a pair
             // force and its sum does not cancel (about 3 % of the weight of a slowly settling
             // drop, eta = 40 Pa s): its mean is removed, a uniform velocity change that no
@@ -183,14 +188,21 @@ impl<R: Rheology> Isph<R> {
             )
             .map_err(|e| format!("implicit viscous step: {e}"))?;
             books.iterations[1] = (stats[0].iterations + stats[1].iterations) as u64;
+            if books.plate.is_on() {
+                plate_terms = self.viscous_wall_terms(ctx, &coef, theta, visc_curv, &u);
+            }
             self.split_viscous_force(ctx, &coef, theta, visc_curv, &u, books);
         }
         // The momentum the solve changed is the virtual particles' viscous force: the
         // fluid-fluid coefficients are symmetric, so their share cancels pair by pair (and the
         // surface term's net has been removed).
+        let mut total = Vec2::zeros();
         for (ui, ri) in u.iter().zip(&rhs) {
-            books.wall_on_fluid += (ui - ri) * (mass / dt);
+            let d = (ui - ri) * (mass / dt);
+            books.wall_on_fluid += d;
+            total += d;
         }
+        books.plate.add_viscous(&plate_terms, total);
         books.viscous_time += t0.elapsed().as_secs_f64();
         Ok(u)
     }
