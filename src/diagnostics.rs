@@ -54,7 +54,7 @@ use crate::state::State;
 use crate::Vec2;
 use rayon::prelude::*;
 
-/// One row of the output table: an FMU output (a scalar; an array row of [`outputs!`] gives
+/// One row of the output table: an FMU output (a scalar; an array row of [`outputs!`](crate::outputs!) gives
 /// one per element).
 #[derive(Debug, Clone, Copy)]
 pub struct OutputSpec {

@@ -18,11 +18,42 @@ fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
+/// The files and folders of modules declared under `#[cfg(test)]` (`#[cfg(test)] mod x;` in
+/// `dir/mod.rs` or `dir.rs` names `dir/x.rs` and `dir/x/`): test code, whatever its file name.
+fn test_modules(files: &[PathBuf]) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    for f in files {
+        let text = std::fs::read_to_string(f).unwrap();
+        let dir = match f.file_name().unwrap().to_str().unwrap() {
+            "mod.rs" | "lib.rs" | "main.rs" => f.parent().unwrap().to_path_buf(),
+            _ => f.with_extension(""),
+        };
+        let mut lines = text.lines().map(str::trim);
+        while let Some(line) = lines.next() {
+            if line != "#[cfg(test)]" {
+                continue;
+            }
+            let next = lines.next().unwrap_or("");
+            if let Some(name) = next
+                .strip_prefix("mod ")
+                .or_else(|| next.strip_prefix("pub mod "))
+                .or_else(|| next.strip_prefix("pub(crate) mod "))
+                .and_then(|r| r.strip_suffix(';'))
+            {
+                out.push(dir.join(format!("{name}.rs")));
+                out.push(dir.join(name));
+            }
+        }
+    }
+    out
+}
+
 /// Edges module -> modules it names through `crate::` in non-test, non-comment code.
 fn graph() -> BTreeMap<String, BTreeSet<String>> {
     let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
     let mut files = Vec::new();
     rust_files(&src, &mut files);
+    let tests = test_modules(&files);
     let module_of = |p: &Path| -> Option<String> {
         let rel = p.strip_prefix(&src).unwrap();
         let first = rel.components().next()?.as_os_str().to_str()?.to_string();
@@ -33,6 +64,9 @@ fn graph() -> BTreeMap<String, BTreeSet<String>> {
     let mut g: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
     for f in &files {
         let Some(m) = module_of(f) else { continue };
+        if tests.iter().any(|t| f.starts_with(t)) {
+            continue;
+        }
         if f.file_name()
             .unwrap()
             .to_str()

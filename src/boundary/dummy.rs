@@ -215,24 +215,28 @@ where
         out
     }
 
-    /// How far `wall`'s dummy particles have moved since they were placed: a plate's rigid
-    /// translation along -n (the neighbour lists, built with a skin, stay valid meanwhile).
-    fn moved(&self, wall: &Wall<N>) -> Vector<N> {
-        wall.plate().map_or(Vector::zeros(), |p| {
-            -p.n * (p.displacement - self.placed_at)
-        })
+    /// Where `wall`'s dummy particles are now: as placed, or, on a plate that has moved since
+    /// (the neighbour lists, built with a skin, stay valid meanwhile), laid out afresh from the
+    /// plate's current pose, the same positions the fluid passes see
+    /// ([`Boundary::positions`]). Laying them out afresh rather than shifting the placed ones
+    /// keeps a restored run bitwise: its scheme places the particles at the restore time.
+    fn where_now<'a>(&'a self, wall: &Wall<N>) -> std::borrow::Cow<'a, [Vector<N>]> {
+        if wall.displacement() == self.placed_at {
+            std::borrow::Cow::Borrowed(&self.x)
+        } else {
+            std::borrow::Cow::Owned(self.layout(wall))
+        }
     }
 
-    /// Shepard sums over the fluid neighbours of dummy particle `k`, moved by `shift` since it
-    /// was placed: sum W, and `f(j, W)` for every neighbour j with W > 0.
+    /// Shepard sums over the fluid neighbours of dummy particle `k`, now at `xw`: sum W, and
+    /// `f(j, W)` for every neighbour j with W > 0.
     fn shepard(
         &self,
         fluid: &Fluid<N>,
         k: usize,
-        shift: Vector<N>,
+        xw: Vector<N>,
         mut f: impl FnMut(usize, f64, Vector<N>),
     ) -> f64 {
-        let xw = self.x[k] + shift;
         let r2max = self.kernel.radius().powi(2);
         let mut sw = 0.0;
         for &j in self.list.of(k) {
@@ -273,10 +277,10 @@ where
     }
 
     fn fill_velocities(&self, wall: &Wall<N>, fluid: &Fluid<N>, out: &mut [Vector<N>]) {
-        let (uw, shift) = (wall.wall_velocity(), self.moved(wall));
+        let (uw, xs) = (wall.wall_velocity(), self.where_now(wall));
         for (k, o) in out.iter_mut().enumerate() {
             let mut su = Vector::zeros();
-            let sw = self.shepard(fluid, k, shift, |j, w, _| su += fluid.v[j] * w);
+            let sw = self.shepard(fluid, k, xs[k], |j, w, _| su += fluid.v[j] * w);
             *o = if sw > 0.0 { 2.0 * uw - su / sw } else { uw };
         }
     }
@@ -289,10 +293,10 @@ where
         _tau_p: &[Tensor<N>],
         out: &mut [Tensor<N>],
     ) {
-        let shift = self.moved(wall);
+        let xs = self.where_now(wall);
         for (k, o) in out.iter_mut().enumerate() {
             let (mut ss, mut sr) = (Tensor::zeros(), Vector::zeros());
-            let sw = self.shepard(fluid, k, shift, |j, w, rwf| {
+            let sw = self.shepard(fluid, k, xs[k], |j, w, rwf| {
                 ss += sigma[j] * w;
                 sr += rwf * (fluid.rho[j] * w);
             });

@@ -22,8 +22,9 @@ use crate::fmi2::model_description::{
 use std::fmt::Write;
 use std::sync::OnceLock;
 
-/// Value reference of the independent variable `time` (FMI 3.0 only).
-pub const TIME_VR: u32 = 0;
+/// Value reference of the independent variable `time` (FMI 3.0 only; the instance core reads
+/// it, so it is declared there).
+pub use crate::fmi2::instance::TIME_VR;
 
 /// One variable as an FMI 3.0 element.
 fn variable_element(v: &ModelVariable) -> String {

@@ -32,7 +32,7 @@ pub struct Particles {
 impl Simulation {
     /// Pressure roughness of the fluid now: RMS of p_i minus its SPH-smoothed value, over the
     /// dynamic pressure rho0 U^2 of the scene (see [`pressure_roughness`] and
-    /// [`Scene::velocity_scale`]).
+    /// [`Scene::velocity_scale`](crate::scene::Scene::velocity_scale)).
     pub fn pressure_roughness(&self) -> f64 {
         let u = self.scene.velocity_scale(&self.eff);
         let scale = self.eff.fluid.density * u * u;
@@ -81,8 +81,9 @@ impl Simulation {
         on_run!(&mut self.run, r => r.set_profiling(on))
     }
 
-    /// Where the time of the steps went since profiling was turned on (see
-    /// [`Run::timings`](super::run::Run::timings)).
+    /// Where the time of the steps went since profiling was turned on: the scheme's passes and
+    /// the work around them (the copy of the state kept for interpolation, the scene's hook),
+    /// the whole steps as the total. Empty while profiling is off.
     pub fn timings(&self) -> Timings {
         on_run!(&self.run, r => r.timings())
     }

@@ -28,6 +28,11 @@ pub use api::Api;
 pub use state::Snapshot;
 pub use variables::IntKind;
 
+/// Value reference of the independent variable `time`, which FMI 3.0 declares and FMI 2.0 does
+/// not (`crate::fmi3`'s modelDescription writes it; the core answers reads of it under
+/// [`Api::Fmi3`]).
+pub const TIME_VR: u32 = 0;
+
 use super::model_description::{guid, DEFAULT_STOP_TIME, LOG_CATEGORIES};
 use super::types::Status;
 use crate::budget::{Budget, RunLength};

@@ -3,7 +3,6 @@
 
 use super::*;
 use crate::config::{Kind, ParamSpec, Value};
-use crate::fmi3::TIME_VR;
 use crate::scene::{input_rows, name_variable_by_vr, param_by_vr, NAME_SUFFIX};
 
 /// Which integer parameters an integer accessor reads and writes.
