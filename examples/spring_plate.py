@@ -45,6 +45,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 from fmpy import extract, read_model_description  # noqa: E402
 from fmpy.fmi1 import FMICallException  # noqa: E402
 from fmpy.fmi2 import FMU2Slave  # noqa: E402
+from fmpy.fmi3 import FMU3Slave  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "examples"))
@@ -98,20 +99,32 @@ def run(fmu_path, mass, stiffness, damping, step, stop, start_values=None, coupl
     try:
         extract(str(fmu_path), unzipdir)
         kwargs = {"logger": logger} if logger is not None else {}
-        fmu = FMU2Slave(guid=md.guid, unzipDirectory=unzipdir,
-                        modelIdentifier=md.coSimulation.modelIdentifier, instanceName="drop",
-                        **kwargs)
-        fmu.instantiate()
-        fmu.setupExperiment(startTime=0.0, stopTime=stop)
+        fmi3 = md.fmiVersion.startswith("3")
+        fmu = (FMU3Slave if fmi3 else FMU2Slave)(
+            guid=md.guid, unzipDirectory=unzipdir,
+            modelIdentifier=md.coSimulation.modelIdentifier, instanceName="drop", **kwargs)
         types = {v.name: v.type for v in md.modelVariables}
+        fmu.instantiate()
+        if fmi3:
+            # FMI 3.0: no setupExperiment (the stop time goes to enterInitializationMode),
+            # Float64 / Int32 / Int64 (enumerations) in place of Real / Integer.
+            get_real, set_real = fmu.getFloat64, fmu.setFloat64
+            set_int = {"Int32": fmu.setInt32, "Enumeration": fmu.setInt64}
+        else:
+            fmu.setupExperiment(startTime=0.0, stopTime=stop)
+            get_real, set_real = fmu.getReal, fmu.setReal
+            set_int = {"Integer": fmu.setInteger, "Enumeration": fmu.setInteger}
         for name, value in start_values.items():
             if types[name] == "String":
                 fmu.setString([vr[name]], [value])
-            elif types[name] in ("Integer", "Enumeration"):
-                fmu.setInteger([vr[name]], [int(value)])
+            elif types[name] in set_int:
+                set_int[types[name]]([vr[name]], [int(value)])
             else:
-                fmu.setReal([vr[name]], [float(value)])
-        fmu.enterInitializationMode()
+                set_real([vr[name]], [float(value)])
+        if fmi3:
+            fmu.enterInitializationMode(startTime=0.0, stopTime=stop)
+        else:
+            fmu.enterInitializationMode()
         fmu.exitInitializationMode()
         plate = SpringPlate(mass, stiffness, damping)
         names = ["wall_force_normal", "plate_displacement", "drop_width", "drop_height"]
@@ -120,23 +133,24 @@ def run(fmu_path, mass, stiffness, damping, step, stop, start_values=None, coupl
         n = int(round(stop / step))
         for k in range(n + 1):
             t = k * step
-            out = dict(zip(names, fmu.getReal(refs)))
+            out = dict(zip(names, get_real(refs)))
             rows.append({"time": t, "plate_x": plate.x, "plate_v": plate.v, **out})
             if k == n:
                 break
             if couple and coupling == "gauss-seidel":
                 u = plate.step(out["wall_force_normal"], step)
-                fmu.setReal([vr["plate_velocity"]], [u])
+                set_real([vr["plate_velocity"]], [u])
             elif couple and coupling == "jacobi-velocity":
-                fmu.setReal([vr["plate_velocity"]], [plate.v])
+                set_real([vr["plate_velocity"]], [plate.v])
                 plate.step(out["wall_force_normal"], step)
             elif couple:
-                fmu.setReal([vr["plate_position"], vr["plate_velocity"]], [plate.x, plate.v])
+                set_real([vr["plate_position"], vr["plate_velocity"]], [plate.x, plate.v])
                 plate.step(out["wall_force_normal"], step)
             try:
                 fmu.doStep(currentCommunicationPoint=t, communicationStepSize=step)
             except FMICallException as e:
-                raise RuntimeError(f"fmi2DoStep at t = {t} s failed: {e}") from None
+                api = "fmi3" if fmi3 else "fmi2"
+                raise RuntimeError(f"{api}DoStep at t = {t} s failed: {e}") from None
         fmu.terminate()
         fmu.freeInstance()
         return rows

@@ -16,9 +16,10 @@ def test_validate_fmu_reports_no_problems(fmu):
     assert validate_fmu(fmu) == []
 
 
-def test_no_output_depends_directly_on_an_input(md):
-    # ModelStructure/Outputs with dependencies="": a master that reads it (OMSimulator) finds
-    # no algebraic loop in a two-way coupling. fmpy reads "" as an empty list.
+def test_no_output_depends_directly_on_an_input(fmi):
+    # ModelStructure/Outputs with dependencies="" in FMI 2.0 and 3.0: a master that reads it
+    # (OMSimulator) finds no algebraic loop in a two-way coupling. fmpy reads "" as an empty list.
+    md = fmi.md
     outputs = [v for v in md.modelVariables if v.causality == "output"]
     assert [u.variable for u in md.outputs] == outputs
     assert all(u.dependencies == [] for u in md.outputs)
