@@ -18,11 +18,10 @@
 //! any thread count; the trajectory does not read it (the ISPH goldens stay bitwise). With more
 //! than one wall, or no plate, the load is left empty (the bins read 0).
 
-use super::{Context, Isph, MIN_TASK};
+use super::{Context, Isph};
 use crate::rheology::Rheology;
 use crate::state::State;
 use crate::Vec2;
-use rayon::prelude::*;
 
 /// The plate's force on each fluid particle as a step books it; empty when not booked.
 #[derive(Debug, Default)]
@@ -102,23 +101,10 @@ impl<R: Rheology> Isph<R> {
         visc_curv: &[Vec2],
         u: &[Vec2],
     ) -> Vec<Vec2> {
-        let (n, nl) = (ctx.n, &ctx.nl);
-        let ue = ctx.virt.extend_velocity(u, visc_curv);
         let c = theta * ctx.mass / self.rho;
-        (0..n)
-            .into_par_iter()
-            .with_min_len(MIN_TASK)
-            .map(|i| {
-                let off = nl.offset(i);
-                let mut f = Vec2::zeros();
-                for (kk, &j) in nl.of(i).iter().enumerate() {
-                    let j = j as usize;
-                    if j >= n {
-                        f += (ue[i] - ue[j]) * coef[off + kk];
-                    }
-                }
-                f * c
-            })
+        self.virtual_viscous_sums(ctx, coef, visc_curv, u, 1, |_| 0)
+            .into_iter()
+            .map(|f| f[0] * c)
             .collect()
     }
 }

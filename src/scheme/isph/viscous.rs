@@ -225,29 +225,47 @@ impl<R: Rheology> Isph<R> {
         if walls == 0 {
             return;
         }
-        let (n, nl) = (ctx.n, &ctx.nl);
-        let ue = ctx.virt.extend_velocity(u, visc_curv);
         let c = theta * ctx.mass / self.rho;
-        let rows: Vec<Vec<Vec2>> = (0..n)
-            .into_par_iter()
-            .with_min_len(MIN_TASK)
-            .map(|i| {
-                let off = nl.offset(i);
-                let mut by_wall = vec![Vec2::zeros(); walls];
-                for (kk, &j) in nl.of(i).iter().enumerate() {
-                    let j = j as usize;
-                    if j >= n {
-                        by_wall[ctx.virt.wall_of(j - n)] += (ue[i] - ue[j]) * coef[off + kk];
-                    }
-                }
-                by_wall
-            })
-            .collect();
+        let rows =
+            self.virtual_viscous_sums(ctx, coef, visc_curv, u, walls, |k| ctx.virt.wall_of(k));
         for by_wall in &rows {
             for (b, w) in books.per_wall.iter_mut().zip(by_wall) {
                 *b += w * c;
             }
         }
+    }
+
+    /// Per fluid particle i, the virtual pairs' sums `sum_{j virtual} coef_ij (u_i - u_j)` of
+    /// the solved Laplacian with the no-slip continuation (corrections `visc_curv`) of `u`,
+    /// in `slots` sums: virtual particle k (0-based among the virtual ones) adds to
+    /// `slot_of(k)`. Each wall's share ([`Isph::split_viscous_force`]) and each particle's
+    /// share of the plate load ([`Isph::viscous_wall_terms`]) are these sums.
+    pub(super) fn virtual_viscous_sums(
+        &self,
+        ctx: &Context,
+        coef: &[f64],
+        visc_curv: &[Vec2],
+        u: &[Vec2],
+        slots: usize,
+        slot_of: impl Fn(usize) -> usize + Sync,
+    ) -> Vec<Vec<Vec2>> {
+        let (n, nl) = (ctx.n, &ctx.nl);
+        let ue = ctx.virt.extend_velocity(u, visc_curv);
+        (0..n)
+            .into_par_iter()
+            .with_min_len(MIN_TASK)
+            .map(|i| {
+                let off = nl.offset(i);
+                let mut sums = vec![Vec2::zeros(); slots];
+                for (kk, &j) in nl.of(i).iter().enumerate() {
+                    let j = j as usize;
+                    if j >= n {
+                        sums[slot_of(j - n)] += (ue[i] - ue[j]) * coef[off + kk];
+                    }
+                }
+                sums
+            })
+            .collect()
     }
 
     /// Viscosity of the Laplacian term (solvent + EVSS's alpha_V eta0) at velocity gradient k.
