@@ -116,7 +116,12 @@ fn accuracy_and_stability() {
         h,
         ["problem", "scheme", "resolution", "wall_seconds", "error"]
     );
-    for problem in ["drop_newtonian", "drop_oldroyd_b", "elliptical_drop"] {
+    for problem in [
+        "drop_newtonian",
+        "drop_oldroyd_b",
+        "elliptical_drop",
+        "elliptical_drop_3d",
+    ] {
         for scheme in ["wcsph", "pdri"] {
             let errs: Vec<f64> = rows
                 .iter()
