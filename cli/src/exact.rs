@@ -13,9 +13,13 @@ use viscosph_reference::analytic::waters_king::WatersKing;
 
 #[derive(Subcommand, Debug)]
 pub enum ExactKind {
-    /// Monaghan's elliptical drop (the exact ODE of the `elliptical_drop` scene):
-    /// time, semi-minor and semi-major axis \[m\] from t = 0 to --t-end.
+    /// Monaghan's elliptical drop (the exact ODE of the `elliptical_drop` scene): time,
+    /// semi-minor and semi-major axis \[m\] from t = 0 to --t-end; with `--dimension 3`, the
+    /// sphere's three semi-axes along x, y and z.
     EllipticalDrop {
+        /// 2 (Monaghan's ellipse) or 3 (the sphere under u = A0 (-x, y, 0)).
+        #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u8).range(2..=3))]
+        dimension: u8,
         /// End time \[s\].
         #[arg(long, default_value_t = elliptical_drop::T_END)]
         t_end: f64,
@@ -63,7 +67,22 @@ fn times(t_end: f64, dt: f64) -> Result<Vec<f64>, Box<dyn std::error::Error>> {
 pub fn exact_csv(kind: &ExactKind) -> Result<String, Box<dyn std::error::Error>> {
     let mut out = String::new();
     match kind {
-        ExactKind::EllipticalDrop { t_end, interval } => {
+        ExactKind::EllipticalDrop {
+            dimension: 3,
+            t_end,
+            interval,
+        } => {
+            writeln!(out, "time,semi_axis_x,semi_axis_y,semi_axis_z")?;
+            for t in times(*t_end, *interval)? {
+                let [x, y, z] = elliptical_drop::exact_axes::<3>(t)
+                    .a
+                    .map(|a| a * elliptical_drop::RADIUS);
+                writeln!(out, "{t:.9e},{x:.12e},{y:.12e},{z:.12e}")?;
+            }
+        }
+        ExactKind::EllipticalDrop {
+            t_end, interval, ..
+        } => {
             writeln!(out, "time,semi_minor,semi_major")?;
             for t in times(*t_end, *interval)? {
                 let e = elliptical_drop::exact(t);

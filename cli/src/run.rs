@@ -248,14 +248,32 @@ pub fn colour_field(p: &Particles) -> (&'static str, Vec<f64>) {
     }
 }
 
+/// The field of a 3D top view: each particle's height above the plate (along its normal), or
+/// z without a plate, in mm.
+pub const HEIGHT_FIELD: &str = "height [mm]";
+
+/// [`HEIGHT_FIELD`] of every fluid particle \[mm\].
+fn heights(p: &Particles) -> Vec<f64> {
+    let (o, n) = match p.plates.first() {
+        Some((o, _, n)) => (*o, *n),
+        None => ([0.0; 3], [0.0, 0.0, 1.0]),
+    };
+    p.x.iter()
+        .map(|x| 1e3 * (0..3).map(|k| (x[k] - o[k]) * n[k]).sum::<f64>())
+        .collect()
+}
+
 /// The views a snapshot shows: in 2D the plane of the flow; in 3D the side view (x, z) of the
 /// section within one particle spacing of the plane y = 0 through the drop's centre and the
-/// downhill line, and the top view (x, y) of every particle, the highest drawn last.
+/// downhill line, coloured by [`colour_field`], and the top view (x, y) of every particle,
+/// coloured by its height ([`HEIGHT_FIELD`]), the highest drawn last, each dot as wide as the
+/// spacing ([`plot::Snapshot::splat`]).
 fn snapshot(sim: &Simulation) -> Vec<plot::Snapshot> {
     let p = sim.particles();
     let eff = sim.effective_config();
     let dx = eff.dx();
     let values = colour_field(&p).1;
+    let height = heights(&p);
     let title = sim.scene().time_label(eff, sim.time());
     // (horizontal axis, vertical axis, name of each, which points: all or the slab |y| < dx).
     let views: Vec<(usize, usize, (&str, &str), bool)> = if p.dimension == 3 {
@@ -268,9 +286,11 @@ fn snapshot(sim: &Simulation) -> Vec<plot::Snapshot> {
         .map(|(a, b, axes, slab)| {
             let keep = |q: &[f64; 3]| !slab || q[1].abs() < dx;
             let mut order: Vec<usize> = (0..p.x.len()).filter(|&i| keep(&p.x[i])).collect();
-            if p.dimension == 3 && !slab {
-                order.sort_by(|&i, &j| p.x[i][2].total_cmp(&p.x[j][2]));
+            let top = p.dimension == 3 && !slab;
+            if top {
+                order.sort_by(|&i, &j| height[i].total_cmp(&height[j]));
             }
+            let field = if top { &height } else { &values };
             plot::Snapshot {
                 title: title.clone(),
                 // Every straight wall surface seen edge-on (the drop's plate, both channel
@@ -287,7 +307,7 @@ fn snapshot(sim: &Simulation) -> Vec<plot::Snapshot> {
                 nozzle: sim.scene().inlet_mark(eff),
                 spacing: dx,
                 points: order.iter().map(|&i| (p.x[i][a], p.x[i][b])).collect(),
-                values: order.iter().map(|&i| values[i]).collect(),
+                values: order.iter().map(|&i| field[i]).collect(),
                 walls: p
                     .walls
                     .iter()
@@ -296,6 +316,7 @@ fn snapshot(sim: &Simulation) -> Vec<plot::Snapshot> {
                     .map(|q| (q[a], q[b]))
                     .collect(),
                 axes: (axes.0.to_string(), axes.1.to_string()),
+                splat: top,
             }
         })
         .collect()
@@ -531,13 +552,9 @@ pub fn run(
             &path,
         )?;
         let (field, _) = colour_field(&sim.particles());
-        let field_name = field.split(" [").next().unwrap_or(field);
-        let title = sim
-            .scene()
-            .snapshot_title(sim.effective_config(), field_name);
         // particles.png: the plane of a 2D flow or the side view of a 3D one (a section
         // through the centre); particles_top.png: a 3D run seen from above.
-        for (views, (name, what)) in shots.iter().zip([
+        for (views, (name, what, field)) in shots.iter().zip([
             (
                 "particles.png",
                 if sim.dimension() == 3 {
@@ -545,9 +562,14 @@ pub fn run(
                 } else {
                     ""
                 },
+                field,
             ),
-            ("particles_top.png", ", seen from above"),
+            ("particles_top.png", ", seen from above", HEIGHT_FIELD),
         ]) {
+            let field_name = field.split(" [").next().unwrap_or(field);
+            let title = sim
+                .scene()
+                .snapshot_title(sim.effective_config(), field_name);
             let path = d.join(name);
             at(
                 plot::particle_snapshots(

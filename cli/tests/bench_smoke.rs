@@ -59,13 +59,16 @@ fn drop_throughput_rheologies_and_report() {
         "{md}"
     );
     let (_, rows) = csv(&out.join("throughput.csv"));
-    let speeds: Vec<f64> = rows
-        .iter()
-        .filter(|r| r[2] == "1" || r[2] == "2")
-        .map(|r| r[3].parse().unwrap())
-        .collect();
-    assert_eq!(speeds.len(), 8, "two cases, two sizes, two thread counts");
-    assert!(speeds.iter().all(|s| *s > 0.0));
+    for dim3 in [false, true] {
+        let speeds: Vec<f64> = rows
+            .iter()
+            .filter(|r| (r[2] == "1" || r[2] == "2") && r[0].ends_with("_3d") == dim3)
+            .map(|r| r[3].parse().unwrap())
+            .collect();
+        assert_eq!(speeds.len(), 8, "two cases, two sizes, two thread counts");
+        assert!(speeds.iter().all(|s| *s > 0.0));
+    }
+    assert!(md.contains("cost ratio 3D / 2D"), "{md}");
     png(&out.join("throughput.png"));
 
     let md = bench(&["rheologies"], out);
@@ -116,7 +119,12 @@ fn accuracy_and_stability() {
         h,
         ["problem", "scheme", "resolution", "wall_seconds", "error"]
     );
-    for problem in ["drop_newtonian", "drop_oldroyd_b", "elliptical_drop"] {
+    for problem in [
+        "drop_newtonian",
+        "drop_oldroyd_b",
+        "elliptical_drop",
+        "elliptical_drop_3d",
+    ] {
         for scheme in ["wcsph", "pdri"] {
             let errs: Vec<f64> = rows
                 .iter()

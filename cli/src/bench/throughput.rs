@@ -44,6 +44,7 @@ pub struct Throughput {
 
 /// Measure particle-steps per second of `cfg` over `steps` steps on `threads` threads, starting
 /// just before impact (the drop is set down one spacing above the plate so walls take part).
+/// Particles are fluid particles (the plate's are part of the cost), in 2D or 3D.
 pub fn measure_throughput(
     cfg: &SceneConfig,
     steps: u64,
@@ -56,8 +57,8 @@ pub fn measure_throughput(
         let mut sim = Simulation::new(cfg)?;
         // One tiny step to learn the stable step, then time `steps` steps.
         sim.advance_to(1e-12)?;
-        let dt = sim.state().last_dt;
-        let s0 = sim.state().step;
+        let dt = sim.last_dt();
+        let s0 = sim.steps();
         let cpu0 = process_cpu_seconds();
         let start = std::time::Instant::now();
         sim.advance_to(sim.time() + dt * steps as f64 * 0.999)?;
@@ -66,8 +67,8 @@ pub fn measure_throughput(
             (Some(a), Some(b)) => b - a,
             _ => f64::NAN,
         };
-        let done = sim.state().step - s0;
-        let n = sim.state().fluid.len();
+        let done = sim.steps() - s0;
+        let n = sim.particle_count();
         let ps = n as f64 * done as f64;
         Ok(Throughput {
             particles: n,
@@ -146,6 +147,7 @@ pub fn bench_throughput(out: &Path, quick: bool) -> Result<String, Box<dyn std::
         }
     }
     plot_throughput(out, &by)?;
+    three_dimensions(&mut md, &mut csv, &by, sizes, quick)?;
     let (lib, chunks, fmu) = fmu_overhead(if quick { 0.04 } else { 0.16 })?;
     writeln!(
         md,
@@ -171,6 +173,76 @@ pub fn bench_throughput(out: &Path, quick: bool) -> Result<String, Box<dyn std::
     std::fs::write(out.join("throughput.csv"), &csv)?;
     std::fs::write(out.join("throughput.md"), &md)?;
     Ok(md)
+}
+
+/// Peak RSS from now on: resets the kernel's high-water mark (Linux: `5` to
+/// `/proc/self/clear_refs`) and returns the resident set size now \[bytes\], the base to
+/// subtract from [`peak_rss`] after the run. `None` where the platform cannot.
+fn reset_peak_rss() -> Option<u64> {
+    std::fs::write("/proc/self/clear_refs", "5").ok()?;
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmRSS:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}
+
+/// The same Fang drops as a sphere (`dimension = 3`, dummy walls: three layers under a plate four
+/// diameters square) at about the same fluid particle counts as the 2D rows (10^3 and 10^4;
+/// 10^5 is not run: 3D at that size is `viscosph run`'s), 1 and 2 threads: CPU time per fluid
+/// particle-step against the 2D row of the same size, and the peak RSS per fluid particle
+/// (measured from a reset of the high-water mark, [`reset_peak_rss`]).
+fn three_dimensions(
+    md: &mut String,
+    csv: &mut String,
+    by: &[(String, usize, usize, f64, f64)],
+    sizes: &[f64],
+    quick: bool,
+) -> Result<(), Box<dyn std::error::Error>> {
+    writeln!(
+        md,
+        "\n### Three dimensions: the sphere against the disc\n\n| case | particles 3D | threads | \
+         CPU ns per particle-step 3D | 2D (particles) | cost ratio 3D / 2D | peak RSS per particle \
+         3D [bytes] |\n|---|---|---|---|---|---|---|"
+    )?;
+    for &n in sizes.iter().filter(|&&n| n < 2e4) {
+        for (name, base) in fang_cases() {
+            let mut cfg = base.clone();
+            let ppd = (6.0 * n / std::f64::consts::PI).cbrt().round() as i64;
+            cfg.set("dimension", Value::Integer(3))?;
+            cfg.set("particles_per_diameter", Value::Integer(ppd))?;
+            let h = 0.5 * cfg.drop.drop_diameter + 1.5 * cfg.dx();
+            cfg.set("initial_drop_height", Value::Real(h))?;
+            let steps = ((2e5 / n) as u64).clamp(6, 100) / if quick { 4 } else { 1 };
+            for threads in [1usize, 2] {
+                eprintln!("bench throughput: 3D {name}, {n:.0} particles, {threads} thread(s) ...");
+                let base = reset_peak_rss();
+                let t = measure_throughput(&cfg, steps.max(4), threads)?;
+                let np = t.particles;
+                let rss = match (base, peak_rss()) {
+                    (Some(a), Some(b)) => b.saturating_sub(a) as f64 / np as f64,
+                    _ => f64::NAN,
+                };
+                let d2 = by.iter().find(|(n2, np2, th2, _, _)| {
+                    n2 == name && *th2 == threads && (*np2 as f64 / n - 1.0).abs() < 0.1
+                });
+                let (d2_text, ratio) = match d2 {
+                    Some((_, np2, _, _, c2)) => (format!("{c2:.0} ({np2})"), t.cpu_ns / c2),
+                    None => ("-".to_string(), f64::NAN),
+                };
+                writeln!(
+                    csv,
+                    "{name}_3d,{np},{threads},{:.4e},{:.1},{rss:.0}",
+                    t.per_second, t.cpu_ns
+                )?;
+                writeln!(
+                    md,
+                    "| {name} | {np} | {threads} | {:.0} | {d2_text} | {ratio:.2} | {rss:.0} |",
+                    t.cpu_ns
+                )?;
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Cost per particle-step (CPU nanoseconds, all threads) against the particle count,

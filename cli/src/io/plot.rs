@@ -392,6 +392,11 @@ pub struct Snapshot {
     pub nozzle: Option<(f64, f64, f64)>,
     /// Names of the horizontal and vertical axes ("x", "y"; a 3D side view: "x", "z").
     pub axes: (String, String),
+    /// Dots as wide as the particle spacing, so that neighbours touch: a 3D top view, where
+    /// the layers stacked under each other would otherwise show as lattice lines, reads as the
+    /// surface it is. Otherwise dots a third of the spacing across (the lattice and any gaps
+    /// stay visible).
+    pub splat: bool,
 }
 
 /// A straight wall surface: a point on it and its unit tangent.
@@ -580,9 +585,13 @@ pub fn particle_snapshots(
             EmptyElement::at((p.0 * scale, p.1 * scale))
                 + Rectangle::new([(-r, -r), (r, r)], c.filled())
         };
-        // Dots a third of the particle spacing across: the lattice and any gaps stay visible.
+        // Dots a third of the particle spacing across, or the spacing ([`Snapshot::splat`]).
         let px_per_m = pw / (x1 - x0);
-        let r = (0.22 * shot.spacing * px_per_m).round().clamp(1.0, 6.0) as i32;
+        let r = if shot.splat {
+            (0.5 * shot.spacing * px_per_m).ceil().clamp(1.0, 12.0) as i32
+        } else {
+            (0.22 * shot.spacing * px_per_m).round().clamp(1.0, 6.0) as i32
+        };
         // plotters does not clip elements placed by pixel offsets: keep only what is inside.
         let inside = |p: &&(f64, f64)| p.0 >= x0 && p.0 <= x1 && p.1 >= y0 && p.1 <= y1;
         chart.draw_series(
