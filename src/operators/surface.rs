@@ -241,19 +241,10 @@ impl HalfLattice {
         let line = (0..=Self::TABLE)
             .map(|k| {
                 let y = reach * k as f64 / Self::TABLE as f64;
-                let sum: f64 = (0..=Self::QUAD)
-                    .map(|q| {
-                        let s = -reach + q as f64 * hs;
-                        let wq = if q == 0 || q == Self::QUAD {
-                            1.0
-                        } else if q % 2 == 1 {
-                            4.0
-                        } else {
-                            2.0
-                        };
-                        wq * kernel.w((s * s + y * y).sqrt())
-                    })
-                    .sum();
+                let sum = Self::simpson(|q| {
+                    let s = -reach + q as f64 * hs;
+                    kernel.w((s * s + y * y).sqrt())
+                });
                 sum * hs / 3.0
             })
             .collect();
@@ -267,23 +258,31 @@ impl HalfLattice {
         let line = (0..=Self::TABLE)
             .map(|k| {
                 let y = reach * k as f64 / Self::TABLE as f64;
-                let sum: f64 = (0..=Self::QUAD)
-                    .map(|q| {
-                        let s = q as f64 * hs;
-                        let wq = if q == 0 || q == Self::QUAD {
-                            1.0
-                        } else if q % 2 == 1 {
-                            4.0
-                        } else {
-                            2.0
-                        };
-                        wq * s * kernel.w((s * s + y * y).sqrt())
-                    })
-                    .sum();
+                let sum = Self::simpson(|q| {
+                    let s = q as f64 * hs;
+                    s * kernel.w((s * s + y * y).sqrt())
+                });
                 2.0 * std::f64::consts::PI * sum * hs / 3.0
             })
             .collect();
         Self { dx, reach, line }
+    }
+
+    /// Simpson's weighted sum of `f(q)` over the points q = 0..=QUAD (times h / 3: the
+    /// integral).
+    fn simpson(f: impl Fn(usize) -> f64) -> f64 {
+        (0..=Self::QUAD)
+            .map(|q| {
+                let wq = if q == 0 || q == Self::QUAD {
+                    1.0
+                } else if q % 2 == 1 {
+                    4.0
+                } else {
+                    2.0
+                };
+                wq * f(q)
+            })
+            .sum()
     }
 
     fn line_sum(&self, y: f64) -> f64 {
