@@ -5,7 +5,6 @@ use crate::boundary::plate::Plate;
 use crate::boundary::wall::Wall;
 use crate::dim::Vector;
 use crate::particles::Fluid;
-use crate::Vec2;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
@@ -36,15 +35,21 @@ impl<const N: usize> Default for Inflow<N> {
     }
 }
 
-impl Inflow {
+impl<const N: usize> Inflow<N> {
     /// Whether a particle at `x` is held in the inlet (its velocity, density and conformation
     /// are prescribed there). A scheme that treats the inlet's pressure its own way (ISPH: a
     /// Neumann condition, as King & Lind's moving ghost particles impose) tells these particles
     /// apart by this test; the weakly compressible schemes need nothing (the inlet's density
-    /// rho0 is zero pressure).
+    /// rho0 is zero pressure). The vertical is the last axis; in 3D the inlet is the round
+    /// region within `half_width` of the vertical axis.
     #[inline]
-    pub fn holds(&self, x: &Vec2) -> bool {
-        x.y > self.exit && x.x.abs() < self.half_width
+    pub fn holds(&self, x: &Vector<N>) -> bool {
+        let across = if N == 2 {
+            x[0].abs()
+        } else {
+            x.rows(0, N - 1).norm()
+        };
+        x[N - 1] > self.exit && across < self.half_width
     }
 }
 

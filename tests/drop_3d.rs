@@ -1,7 +1,8 @@
 //! The drop in three dimensions through the whole product (`dimension = 3`): a sphere on a
 //! plane plate of any inclination, under the weakly compressible schemes with dummy wall
-//! particles, measured by the outputs an FMU user reads. Short runs at 10 particles per
-//! diameter keep these in the suite; the resolution study is `viscosph bench`'s.
+//! particles and under King & Lind's incompressible scheme with mirror particles, measured by
+//! the outputs an FMU user reads. Short runs at 10 particles per diameter keep these in the
+//! suite; the resolution study is `viscosph bench`'s.
 
 mod common;
 
@@ -236,8 +237,6 @@ fn dimension_3_refuses_what_has_no_3d_form_by_name() {
         }
         Simulation::validate(&c).unwrap_err().to_string()
     };
-    let e = refusal(&[("scheme", s("isph"))]);
-    assert!(e.contains("dimension = 3") && e.contains("isph"), "{e}");
     let e = refusal(&[("scene", s("channel"))]);
     assert!(e.contains("'channel'") && e.contains("'drop'"), "{e}");
     let e = refusal(&[("wall_boundary", s("image"))]);
@@ -252,4 +251,218 @@ fn dimension_3_refuses_what_has_no_3d_form_by_name() {
     c.set("wall_boundary", s("dummy")).unwrap();
     Simulation::validate(&c).unwrap();
     assert!(SceneConfig::default().set("dimension", i(4)).is_err());
+}
+
+/// King & Lind's Re = 4 drop as a sphere (W = 2 cm, centre W above the plate, U = 1 m/s,
+/// eta0 = 5 Pa s) under the incompressible scheme at `ppd` particles per diameter.
+fn isph_sphere(pairs: &[(&str, Value)]) -> SceneConfig {
+    let mut all: Vec<(&str, Value)> = vec![
+        ("scheme", s("isph")),
+        ("rheology", s("newtonian")),
+        ("viscosity", r(5.0)),
+        ("initial_drop_height", r(D)),
+    ];
+    all.extend(pairs.iter().cloned());
+    cfg(&all)
+}
+
+/// The volume the particles `x` cover (a cubic lattice of spacing `dx` covers dx^3 per
+/// particle): the morphological closing of the positions on a raster of dx / 4 cells, the
+/// points within dx of a particle eroded by dx / 2, the 3D counterpart of the 2D covered area
+/// (`viscosph::diagnostics::covered_area`). It shrinks when particles crowd together and grows
+/// when they spread apart, which an incompressible scheme's sum(m / rho) cannot see.
+fn covered_volume(x: &[viscosph::dim::Vector<3>], dx: f64) -> f64 {
+    let cell = dx / 4.0;
+    let (r_dil, r_ero) = (dx, 0.5 * dx);
+    let pad = r_dil + 3.0 * cell;
+    let mut lo = [f64::MAX; 3];
+    let mut hi = [f64::MIN; 3];
+    for p in x {
+        for a in 0..3 {
+            lo[a] = lo[a].min(p[a] - pad);
+            hi[a] = hi[a].max(p[a] + pad);
+        }
+    }
+    let n: Vec<usize> = (0..3)
+        .map(|a| ((hi[a] - lo[a]) / cell).ceil() as usize + 1)
+        .collect();
+    let idx = |i: usize, j: usize, k: usize| (k * n[1] + j) * n[0] + i;
+    let centre = |a: usize, i: i64| lo[a] + (i as f64 + 0.5) * cell;
+    let mut covered = vec![false; n[0] * n[1] * n[2]];
+    let stamp = |covered: &mut Vec<bool>, p: [f64; 3], r: f64, value: bool, only: bool| {
+        let rc = (r / cell).ceil() as i64 + 1;
+        let c: Vec<i64> = (0..3).map(|a| ((p[a] - lo[a]) / cell) as i64).collect();
+        let range = |a: usize| (c[a] - rc).max(0)..=(c[a] + rc).min(n[a] as i64 - 1);
+        for k in range(2) {
+            for j in range(1) {
+                for i in range(0) {
+                    let d = [
+                        centre(0, i) - p[0],
+                        centre(1, j) - p[1],
+                        centre(2, k) - p[2],
+                    ];
+                    if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] <= r * r {
+                        let e = &mut covered[idx(i as usize, j as usize, k as usize)];
+                        if !only || *e {
+                            *e = value;
+                        }
+                    }
+                }
+            }
+        }
+    };
+    for p in x {
+        stamp(&mut covered, [p[0], p[1], p[2]], r_dil, true, false);
+    }
+    // Erosion: every uncovered cell next to a covered one clears the covered cells within
+    // r_ero of it.
+    let mut edge = Vec::new();
+    for k in 1..n[2] - 1 {
+        for j in 1..n[1] - 1 {
+            for i in 1..n[0] - 1 {
+                if covered[idx(i, j, k)] {
+                    continue;
+                }
+                let next = [
+                    idx(i - 1, j, k),
+                    idx(i + 1, j, k),
+                    idx(i, j - 1, k),
+                    idx(i, j + 1, k),
+                    idx(i, j, k - 1),
+                    idx(i, j, k + 1),
+                ];
+                if next.iter().any(|&m| covered[m]) {
+                    edge.push([
+                        centre(0, i as i64),
+                        centre(1, j as i64),
+                        centre(2, k as i64),
+                    ]);
+                }
+            }
+        }
+    }
+    let mut eroded = covered.clone();
+    for p in edge {
+        stamp(&mut eroded, p, r_ero, false, true);
+    }
+    eroded.iter().filter(|&&c| c).count() as f64 * cell * cell * cell
+}
+
+/// The Re = 4 sphere on a level plate under ISPH at 10 particles per diameter to t* = 2: it
+/// spreads equally along and across the plate (within 1 %) and reports the covered volume and
+/// the pressure Poisson equation's iterations per step. The covered volume is printed, not
+/// asserted: at this resolution it falls by 4.3 % in the free fall before impact and by 6.2 %
+/// at most to t* = 2 (the 1 % of the 2D drop is not reached in 3D yet; docs/isph.md,
+/// "Dimensions").
+#[test]
+fn an_isph_sphere_on_a_level_plate_spreads_equally_along_and_across() {
+    let c = isph_sphere(&[]);
+    let dx = D / 10.0;
+    let mut sim = Simulation::new(c).unwrap();
+    let v0 = covered_volume(&sim.state_3d().unwrap().fluid.x, dx);
+    let mut worst = 0.0f64;
+    let mut o = sim.outputs();
+    for k in 1..=8 {
+        sim.advance_to(k as f64 * 0.25 * T_STAR).unwrap();
+        let v = covered_volume(&sim.state_3d().unwrap().fluid.x, dx);
+        o = sim.outputs();
+        eprintln!(
+            "t* = {:.2}: W along {:.5} D, across {:.5} D, H {:.4} D, volume {:+.4} %",
+            k as f64 * 0.25,
+            o.shared.drop_width / D,
+            o.shared.drop_width_transverse / D,
+            o.shared.drop_height / D,
+            100.0 * (v / v0 - 1.0)
+        );
+        worst = worst.max((v / v0 - 1.0).abs());
+    }
+    let st = sim.state_3d().unwrap();
+    eprintln!(
+        "{} particles, {} steps: {:.1} PPE and {:.1} viscous iterations per step",
+        st.fluid.len(),
+        st.step,
+        st.solver_iterations[0] as f64 / st.step as f64,
+        st.solver_iterations[1] as f64 / st.step as f64
+    );
+    let sh = o.shared;
+    assert!(
+        sh.drop_width > 1.3 * D,
+        "the drop spread: W* = {}",
+        sh.drop_width / D
+    );
+    assert!(
+        (sh.drop_width / sh.drop_width_transverse - 1.0).abs() < 0.01,
+        "along {} vs across {}",
+        sh.drop_width,
+        sh.drop_width_transverse
+    );
+    eprintln!("largest covered-volume change {:.2} %", 100.0 * worst);
+    assert!(worst.is_finite());
+    assert!(st.solver_iterations[0] > 0);
+}
+
+/// The Re = 4 sphere on a 20 degree incline under ISPH: the walls' impulse the scheme books is
+/// exactly the fluid's momentum change less gravity's and the ALE remapping's impulses (every
+/// fluid pair force cancels; the mirrors' pair forces and the implicit viscous solve's change
+/// are the wall's), and the time integral of `wall_force_normal_total` matches it within 5 %.
+#[test]
+fn an_isph_sphere_on_an_incline_balances_its_impulse() {
+    let c = isph_sphere(&[
+        ("plate_inclination", r(20.0)),
+        ("initial_drop_height", r(0.7 * D)),
+    ]);
+    let g = c.fluid.gravity;
+    let mut sim = Simulation::new(c).unwrap();
+    let p0 = sim.fluid_momentum_3d().unwrap();
+    let mass = sim.fluid_mass();
+    let n_steps = 300;
+    let dt = 1.5 * T_STAR / n_steps as f64;
+    let mut prev = sim.outputs().shared.wall_force_normal_total;
+    let mut integral = 0.0;
+    for k in 1..=n_steps {
+        sim.advance_to(k as f64 * dt).unwrap();
+        let f = sim.outputs().shared.wall_force_normal_total;
+        integral += 0.5 * dt * (f + prev);
+        prev = f;
+    }
+    let st = sim.state_3d().unwrap();
+    let gravity = viscosph::dim::Vector::<3>::new(0.0, 0.0, -g);
+    let j = sim.fluid_momentum_3d().unwrap() - p0 - gravity * mass * st.time - st.remap_impulse;
+    let n = st.plate().unwrap().n;
+    eprintln!(
+        "wall impulse {:.6e}, momentum balance {:.6e}, remap {:.3e} N s; int F_n dt = {integral:.6e}          vs {:.6e} N s",
+        st.wall_impulse.norm(),
+        j.norm(),
+        st.remap_impulse.norm(),
+        -st.wall_impulse.dot(&n)
+    );
+    assert!(j.norm() > 1e-5, "{j}");
+    assert!((st.wall_impulse + j).norm() < 1e-9 * j.norm());
+    let want = j.dot(&n);
+    assert!(
+        (integral - want).abs() < 0.05 * want,
+        "{integral} vs {want}"
+    );
+}
+
+#[test]
+fn a_3d_isph_run_is_bitwise_the_same_on_one_and_two_threads() {
+    let run = |threads: i64| {
+        let c = isph_sphere(&[
+            ("threads", i(threads)),
+            ("plate_inclination", r(10.0)),
+            ("initial_drop_height", r(0.7 * D)),
+        ]);
+        let mut sim = Simulation::new(c).unwrap();
+        sim.advance_to(0.5 * T_STAR).unwrap();
+        let bits: Vec<u64> = sim.outputs().values().iter().map(|v| v.to_bits()).collect();
+        (sim.state_3d().unwrap().clone(), bits)
+    };
+    let (a, b) = (run(1), run(2));
+    assert!(a.0.step > 5);
+    assert!(
+        a.0 == b.0,
+        "the 3D ISPH states differ between 1 and 2 threads"
+    );
+    assert_eq!(a.1, b.1);
 }

@@ -21,8 +21,9 @@
 use super::plate::Plate;
 use super::wall::Wall;
 use super::Boundary;
+use crate::dim::{Tensor, Vector};
 use crate::geometry::{HalfPlane, Shape};
-use crate::neighbors::CellGrid;
+use crate::neighbors::Grid;
 use crate::particles::Fluid;
 use crate::{Mat2, Vec2};
 
@@ -154,12 +155,12 @@ impl MirrorPlate {
 /// the no-slip velocity and the [`StressMirror::NoSlip`] stress of their parents. The incompressible scheme reads the parents ([`Boundary::parents`]) to link
 /// mirror pressures and velocities to their parents in its linear systems.
 #[derive(Debug, Clone)]
-pub struct MirrorWall {
+pub struct MirrorWall<const N: usize = 2> {
     reach: f64,
-    mirrors: Mirrors,
+    mirrors: Mirrors<N>,
 }
 
-impl MirrorWall {
+impl<const N: usize> MirrorWall<N> {
     /// Mirrors reaching `reach` from the plate (King's code: 3h, the kernel support).
     pub fn new(reach: f64) -> Self {
         Self {
@@ -169,14 +170,14 @@ impl MirrorWall {
     }
 }
 
-impl Boundary for MirrorWall {
+impl<const N: usize> Boundary<N> for MirrorWall<N> {
     fn place(
         &mut self,
-        wall: &mut Wall,
-        fluid_x: &[Vec2],
-        _fluid_grid: &CellGrid,
+        wall: &mut Wall<N>,
+        fluid_x: &[Vector<N>],
+        _fluid_grid: &Grid<N>,
         _radius: f64,
-        out: &mut Vec<Vec2>,
+        out: &mut Vec<Vector<N>>,
     ) {
         self.mirrors = build_across(&*wall, self.reach, fluid_x);
         out.extend_from_slice(&self.mirrors.x);
@@ -184,7 +185,7 @@ impl Boundary for MirrorWall {
 
     /// No slip: `2 u_wall - u_parent` (the wall moves rigidly, so u_wall is the same at every
     /// closest point).
-    fn fill_velocities(&self, wall: &Wall, fluid: &Fluid, out: &mut [Vec2]) {
+    fn fill_velocities(&self, wall: &Wall<N>, fluid: &Fluid<N>, out: &mut [Vector<N>]) {
         let uw = wall.wall_velocity();
         for (o, &i) in out.iter_mut().zip(&self.mirrors.parent) {
             *o = 2.0 * uw - fluid.v[i as usize];
@@ -193,19 +194,22 @@ impl Boundary for MirrorWall {
 
     fn fill_stresses(
         &self,
-        _wall: &Wall,
-        _fluid: &Fluid,
-        _sigma: &[Mat2],
-        tau_p: &[Mat2],
-        out: &mut [Mat2],
+        _wall: &Wall<N>,
+        _fluid: &Fluid<N>,
+        _sigma: &[Tensor<N>],
+        tau_p: &[Tensor<N>],
+        out: &mut [Tensor<N>],
     ) {
         // StressMirror::NoSlip: the parent's stress, whatever the wall's orientation.
         for (o, &i) in out.iter_mut().zip(&self.mirrors.parent) {
-            *o = tau_p.get(i as usize).copied().unwrap_or_else(Mat2::zeros);
+            *o = tau_p
+                .get(i as usize)
+                .copied()
+                .unwrap_or_else(Tensor::<N>::zeros);
         }
     }
 
-    fn positions(&self, _wall: &Wall) -> Vec<Vec2> {
+    fn positions(&self, _wall: &Wall<N>) -> Vec<Vector<N>> {
         self.mirrors.x.clone()
     }
 
@@ -216,8 +220,8 @@ impl Boundary for MirrorWall {
 
 /// Mirror points and their fluid parents (ascending parent order).
 #[derive(Debug, Clone, Default, PartialEq)]
-pub struct Mirrors {
-    pub x: Vec<Vec2>,
+pub struct Mirrors<const N: usize = 2> {
+    pub x: Vec<Vector<N>>,
     pub parent: Vec<u32>,
 }
 
@@ -229,7 +233,11 @@ pub fn build(plate: &MirrorPlate, x: &[Vec2]) -> Mirrors {
 
 /// A mirror across the wall `shape` (reflected across its local tangent) for every fluid
 /// particle at a signed distance 0 < d < reach, in ascending particle order.
-pub fn build_across(shape: &dyn Shape<2>, reach: f64, x: &[Vec2]) -> Mirrors {
+pub fn build_across<const N: usize>(
+    shape: &dyn Shape<N>,
+    reach: f64,
+    x: &[Vector<N>],
+) -> Mirrors<N> {
     let mut m = Mirrors::default();
     for (i, p) in x.iter().enumerate() {
         let d = shape.signed_distance(p);

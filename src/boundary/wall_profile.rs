@@ -22,7 +22,7 @@
 //! channel, where the scheme uses it (a free-surface scene keeps the plain mirrors).
 
 use super::plate::Plate;
-use crate::{Mat2, Vec2};
+use crate::dim::{Tensor, Vector};
 use nalgebra::{Matrix3, Vector3};
 
 /// Fewest samples for a fit (three coefficients; anything less keeps the plain mirrors).
@@ -53,13 +53,13 @@ fn fit(
 /// Per mirror of `plate` (parents `parent`, fluid positions `x`, reach `reach`), the velocity to
 /// add to `2 u_wall - u_parent`: `u''_w d^2 t`, with u'' the wall curvature of the fitted
 /// tangential profile of `u`.
-pub fn velocity_corrections(
-    plate: &Plate,
-    x: &[Vec2],
+pub fn velocity_corrections<const N: usize>(
+    plate: &Plate<N>,
+    x: &[Vector<N>],
     parent: &[u32],
-    u: &[Vec2],
+    u: &[Vector<N>],
     reach: f64,
-) -> Vec<Vec2> {
+) -> Vec<Vector<N>> {
     let uw = plate.wall_velocity().dot(&plate.t);
     let c = fit(
         parent.iter().map(|&i| {
@@ -79,11 +79,11 @@ pub fn velocity_corrections(
 }
 
 /// Slope of the fitted shear component `t . Phi n` per unit of s = d / reach.
-fn shear_slope_per_reach(
-    plate: &Plate,
-    x: &[Vec2],
+fn shear_slope_per_reach<const N: usize>(
+    plate: &Plate<N>,
+    x: &[Vector<N>],
     parent: &[u32],
-    phi: &[Mat2],
+    phi: &[Tensor<N>],
     reach: f64,
 ) -> f64 {
     let (t, n) = (plate.t, plate.n);
@@ -99,11 +99,11 @@ fn shear_slope_per_reach(
 
 /// The wall-normal slope `d(t . Phi n)/dn` at the wall of `plate` [Pa/m], from a quadratic fit
 /// of the shear component over the mirrors' parents (0 with too few samples).
-pub fn shear_stress_slope(
-    plate: &Plate,
-    x: &[Vec2],
+pub fn shear_stress_slope<const N: usize>(
+    plate: &Plate<N>,
+    x: &[Vector<N>],
     parent: &[u32],
-    phi: &[Mat2],
+    phi: &[Tensor<N>],
     reach: f64,
 ) -> f64 {
     shear_slope_per_reach(plate, x, parent, phi, reach) / reach
@@ -111,13 +111,13 @@ pub fn shear_stress_slope(
 
 /// Per mirror, the stress to add to the parent's (even) value: `-2 (dPhi_tn/dn) d` on the shear
 /// component in the wall frame, from a quadratic fit of `t . Phi n`.
-pub fn shear_stress_corrections(
-    plate: &Plate,
-    x: &[Vec2],
+pub fn shear_stress_corrections<const N: usize>(
+    plate: &Plate<N>,
+    x: &[Vector<N>],
     parent: &[u32],
-    phi: &[Mat2],
+    phi: &[Tensor<N>],
     reach: f64,
-) -> Vec<Mat2> {
+) -> Vec<Tensor<N>> {
     let (t, n) = (plate.t, plate.n);
     let slope = shear_slope_per_reach(plate, x, parent, phi, reach);
     let shape = t * n.transpose() + n * t.transpose();
@@ -129,12 +129,12 @@ pub fn shear_stress_corrections(
 
 /// Per mirror, the velocity to add to `2 u_wall - u_parent` for a given wall curvature
 /// `u''_w = d^2 (u . t) / dn^2`: `u''_w d^2 t` (exact for a cubic profile).
-pub fn curvature_corrections(
-    plate: &Plate,
-    x: &[Vec2],
+pub fn curvature_corrections<const N: usize>(
+    plate: &Plate<N>,
+    x: &[Vector<N>],
     parent: &[u32],
     curvature: f64,
-) -> Vec<Vec2> {
+) -> Vec<Vector<N>> {
     parent
         .iter()
         .map(|&i| {
@@ -147,6 +147,7 @@ pub fn curvature_corrections(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::{Mat2, Vec2};
 
     /// Fluid rows of a channel wall at (j + 1/2) dx and the bottom plate y = 0.
     fn rows(dx: f64, reach: f64) -> (Plate, Vec<Vec2>, Vec<u32>) {

@@ -143,6 +143,20 @@ impl Dim for D2 {
     fn surface_threshold(c_hat: f64) -> f64 {
         1.4 + 0.5 * (c_hat - 1.0).max(-0.2)
     }
+
+    /// Along the surface's tangent t = (-n_y, n_x): `(a t . v) t`.
+    #[inline]
+    fn tangential(n: &Vec2, v: &Vec2, a: f64) -> Vec2 {
+        let t = Vec2::new(-n.y, n.x);
+        a * t.dot(v) * t
+    }
+
+    /// `t . g t` with the tangent t = (-n_y, n_x).
+    #[inline]
+    fn tangential_trace(n: &Vec2, g: &Mat2) -> f64 {
+        let t = Vec2::new(-n.y, n.x);
+        t.dot(&(g * t))
+    }
 }
 
 #[cfg(test)]

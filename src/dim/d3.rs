@@ -53,10 +53,21 @@ impl Dim for D3 {
 
     /// King & Lind 2021 eq. (36) is printed for 2D (1.4 + 0.5 max(C^ - 1, -0.2) against the
     /// full-support div r = 2); here it is scaled to the full-support value 3. Nothing in the
-    /// weakly compressible schemes reads it; the incompressible scheme, which does, is 2D so far.
+    /// weakly compressible schemes reads it; the incompressible scheme reads it for
+    /// its free surface.
     #[inline]
     fn surface_threshold(c_hat: f64) -> f64 {
         1.5 * <super::D2 as Dim>::surface_threshold(c_hat)
+    }
+
+    #[inline]
+    fn tangential(n: &Vector<3>, v: &Vector<3>, a: f64) -> Vector<3> {
+        (v - n * n.dot(v)) * a
+    }
+
+    #[inline]
+    fn tangential_trace(n: &Vector<3>, g: &Tensor<3>) -> f64 {
+        g.trace() - n.dot(&(g * n))
     }
 }
 

@@ -108,4 +108,13 @@ where
     /// 2021 eq. 36): a particle with div r at or below it is on the free surface. div r is N
     /// under full support.
     fn surface_threshold(c_hat: f64) -> f64;
+
+    /// `a` times the part of `v` along the free surface of unit normal `n`, `a (I - n n^T) v`
+    /// (King & Lind 2021's shifting on the surface, after eq. 40).
+    fn tangential(n: &OVector<f64, Self>, v: &OVector<f64, Self>, a: f64) -> OVector<f64, Self>;
+
+    /// The trace of `g` over the plane normal to the unit vector `n`, `tr g - n . g n`: with
+    /// tr g = 0 (continuity) it is minus the normal component `n . g n` of King & Lind 2021 eq.
+    /// (35a)'s normal stress.
+    fn tangential_trace(n: &OVector<f64, Self>, g: &OMatrix<f64, Self, Self>) -> f64;
 }

@@ -7,7 +7,6 @@
 use super::pairs::PairCache;
 use crate::dim::{Tensor, Vector};
 use crate::neighbors::NeighborList;
-use crate::{Mat2, Vec2};
 use rayon::prelude::*;
 
 /// Sums over one particle's pairs, in N dimensions (`Kinematics` alone: two).
@@ -48,20 +47,20 @@ const MIN_TASK: usize = 64;
 /// ([`PairCache::reset_full`]). `u` covers every point the lists refer to (fluid, then virtual
 /// particles). With `L_i = I` it is the uncorrected gradient [`Kinematics`] sums per pair
 /// (Fang 2006 eq. 23), up to the order of the operations.
-pub fn corrected_velocity_gradients(
+pub fn corrected_velocity_gradients<const N: usize>(
     n: usize,
-    u: &[Vec2],
+    u: &[Vector<N>],
     vol: f64,
     list: &NeighborList,
-    pairs: &PairCache,
-    l: &[Mat2],
-) -> Vec<Mat2> {
+    pairs: &PairCache<N>,
+    l: &[Tensor<N>],
+) -> Vec<Tensor<N>> {
     (0..n)
         .into_par_iter()
         .with_min_len(MIN_TASK)
         .map(|i| {
             let off = list.offset(i);
-            let mut k = Mat2::zeros();
+            let mut k = Tensor::<N>::zeros();
             for (kk, &j) in list.of(i).iter().enumerate() {
                 let g = pairs.grad[off + kk];
                 k += (u[j as usize] - u[i]) * g.transpose();
@@ -75,6 +74,7 @@ pub fn corrected_velocity_gradients(
 mod tests {
     use super::*;
     use crate::kernel::{CubicSpline, Kernel};
+    use crate::{Mat2, Vec2};
 
     #[test]
     fn velocity_gradient_of_a_linear_field_in_the_bulk() {

@@ -29,9 +29,9 @@
 //! (4 h dt (|u_i| + 0.2 max|u| exp(-5 |u_i| / max|u|))). The shifting velocity of the ALE
 //! algorithm (section III.A) is `u_ps = dr / dt`.
 
+use crate::dim::{Const, Dim, Vector};
 use crate::kernel::Kernel;
 use crate::neighbors::{Domain, NeighborList};
-use crate::Vec2;
 use rayon::prelude::*;
 use std::f64::consts::PI;
 
@@ -55,8 +55,8 @@ pub fn cohesion_q(q: f64) -> f64 {
 /// part like fluid points). `repulsion[i]` selects the Q term (interior particles of a
 /// free-surface flow; all particles of a closed one); empty = none.
 #[allow(clippy::too_many_arguments)]
-pub fn concentration_gradient<K: Kernel>(
-    x: &[Vec2],
+pub fn concentration_gradient<const N: usize, K: Kernel<N>>(
+    x: &[Vector<N>],
     vol: &[f64],
     nl: &NeighborList,
     kernel: &K,
@@ -64,14 +64,14 @@ pub fn concentration_gradient<K: Kernel>(
     dr: f64,
     n: usize,
     repulsion: &[bool],
-) -> Vec<Vec2> {
+) -> Vec<Vector<N>> {
     let w_dr = kernel.w(dr);
     let alpha = cohesion_alpha(kernel.h());
     (0..n)
         .into_par_iter()
         .map(|i| {
             let use_q = repulsion.get(i).copied().unwrap_or(false);
-            let mut g = Vec2::zeros();
+            let mut g = Vector::<N>::zeros();
             for &j in nl.of(i) {
                 let j = j as usize;
                 let xij = domain.delta(&x[i], &x[j]);
@@ -93,7 +93,13 @@ pub fn concentration_gradient<K: Kernel>(
 /// One pair's term of eq. (42)'s concentration gradient, with the anti-clumping factor:
 /// `(1 + 0.25 (W / W(dr))^4) V_j (1/r) dW/dr x_ij` (w = W_ij, f = (1/r) dW/dr, w_dr = W(dr)).
 #[inline]
-pub fn gradient_term(w: f64, f: f64, w_dr: f64, vol_j: f64, xij: Vec2) -> Vec2 {
+pub fn gradient_term<const N: usize>(
+    w: f64,
+    f: f64,
+    w_dr: f64,
+    vol_j: f64,
+    xij: Vector<N>,
+) -> Vector<N> {
     let t = w / w_dr;
     (1.0 + 0.25 * t * t * t * t) * vol_j * f * xij
 }
@@ -101,7 +107,7 @@ pub fn gradient_term(w: f64, f: f64, w_dr: f64, vol_j: f64, xij: Vec2) -> Vec2 {
 /// One pair's repulsion Q of eqs. (42)-(43), subtracted from the gradient: `alpha q(r / 2dr)
 /// x_ij / r` with `alpha = 32 / (pi h)`.
 #[inline]
-pub fn cohesion_term(alpha: f64, r: f64, dr: f64, xij: Vec2) -> Vec2 {
+pub fn cohesion_term<const N: usize>(alpha: f64, r: f64, dr: f64, xij: Vector<N>) -> Vector<N> {
     alpha * cohesion_q(r / (2.0 * dr)) * xij / r
 }
 
@@ -118,7 +124,7 @@ pub fn coefficient_internal(h: f64) -> f64 {
 
 /// Shift coefficients D_i dt for free-surface flows (eq. (41), second line):
 /// `4 h dt (|u_i| + 0.2 max|u| exp(-5 |u_i| / max|u|))`; zero for a fluid at rest.
-pub fn coefficients_free_surface(u: &[Vec2], h: f64, dt: f64) -> Vec<f64> {
+pub fn coefficients_free_surface<const N: usize>(u: &[Vector<N>], h: f64, dt: f64) -> Vec<f64> {
     let umax = u.iter().map(|v| v.norm()).fold(0.0, f64::max);
     u.iter()
         .map(|v| {
@@ -135,12 +141,15 @@ pub fn coefficients_free_surface(u: &[Vec2], h: f64, dt: f64) -> Vec<f64> {
 /// Displacements `dr_i` (eq. (40) down the gradient, tangential on the free surface, capped at
 /// [`CAP_OVER_H`] h). `d[i]` is D_i dt; `surface = Some((is_surface, outward_normal))` for a
 /// free-surface flow.
-pub fn displacements(
-    grad_c: &[Vec2],
+pub fn displacements<const N: usize>(
+    grad_c: &[Vector<N>],
     d: &[f64],
-    surface: Option<(&[bool], &[Vec2])>,
+    surface: Option<(&[bool], &[Vector<N>])>,
     h: f64,
-) -> Vec<Vec2> {
+) -> Vec<Vector<N>>
+where
+    Const<N>: Dim,
+{
     assert_eq!(grad_c.len(), d.len());
     let cap = CAP_OVER_H * h;
     (0..grad_c.len())
@@ -149,8 +158,7 @@ pub fn displacements(
             let mut s = -d[i] * grad_c[i];
             if let Some((fs, n)) = surface {
                 if fs[i] {
-                    let m = Vec2::new(-n[i].y, n[i].x);
-                    s = -d[i] * m.dot(&grad_c[i]) * m;
+                    s = Const::<N>::tangential(&n[i], &grad_c[i], -d[i]);
                 }
             }
             let len = s.norm();
@@ -169,6 +177,7 @@ mod tests {
     use crate::neighbors::CellGrid;
     use crate::operators::fixtures::disc;
     use crate::operators::surface;
+    use crate::Vec2;
 
     fn lists(x: &[Vec2], k: &QuinticSpline) -> NeighborList {
         let g = CellGrid::build(x, k.radius(), &crate::neighbors::Domain::OPEN);

@@ -18,7 +18,6 @@
 use crate::dim::{Const, Dim, Vector};
 use crate::kernel::Kernel;
 use crate::neighbors::{Domain, NeighborList};
-use crate::Vec2;
 use rayon::prelude::*;
 
 /// Detection threshold of King & Lind 2021 eq. (36) at normalised concentration `c_hat` in N
@@ -166,9 +165,11 @@ fn wendland_1d(r: f64, h: f64) -> f64 {
 
 /// Line density of the free-surface row at each surface particle, relative to a straight row
 /// of spacing `dx` (1 there, 1 / s for a row of spacing s dx; 0 off the surface): a 1D kernel
-/// sum over the surface neighbours only, with smoothing length `h`.
-pub fn row_density(
-    x: &[Vec2],
+/// sum over the surface neighbours only, with smoothing length `h`. In 3D the surface is a
+/// sheet: the same sum against a flat square sheet of spacing `dx`, square-rooted, so that a
+/// sheet of spacing s dx again gives 1 / s.
+pub fn row_density<const N: usize>(
+    x: &[Vector<N>],
     nl: &NeighborList,
     domain: &Domain,
     is_surface: &[bool],
@@ -177,9 +178,17 @@ pub fn row_density(
 ) -> Vec<f64> {
     let n = is_surface.len();
     let reach = (2.0 * h / dx).ceil() as i64;
-    let flat: f64 = (-reach..=reach)
-        .map(|k| wendland_1d((k as f64 * dx).abs(), h))
-        .sum();
+    assert!(N == 2 || N == 3, "a surface row or sheet in 2D or 3D");
+    let flat: f64 = if N == 2 {
+        (-reach..=reach)
+            .map(|k| wendland_1d((k as f64 * dx).abs(), h))
+            .sum()
+    } else {
+        (-reach..=reach)
+            .flat_map(|a| (-reach..=reach).map(move |b| (a, b)))
+            .map(|(a, b)| wendland_1d(dx * ((a * a + b * b) as f64).sqrt(), h))
+            .sum()
+    };
     (0..n)
         .into_par_iter()
         .map(|i| {
@@ -193,7 +202,11 @@ pub fn row_density(
                     c += wendland_1d(domain.delta(&x[i], &x[j]).norm(), h);
                 }
             }
-            c / flat
+            if N == 2 {
+                c / flat
+            } else {
+                (c / flat).sqrt()
+            }
         })
         .collect()
 }
@@ -203,7 +216,8 @@ pub fn row_density(
 /// lattice: the rows at `a - k dx`, k >= 0, each with the tangentially averaged line sum
 /// `R(y) = int W(sqrt(s^2 + y^2)) ds`, over the rows at `a - k dx` for every integer k. It is
 /// the reference of the near-surface density-invariant source of `scheme::isph` (a truncated
-/// support reads as expansion against the interior's C0; against this it does not).
+/// support reads as expansion against the interior's C0; against this it does not). In 3D the
+/// rows are planes and R(y) is the plane integral `2 pi int W(sqrt(s^2 + y^2)) s ds`.
 #[derive(Debug, Clone)]
 pub struct HalfLattice {
     dx: f64,
@@ -217,29 +231,58 @@ impl HalfLattice {
     /// Simpson intervals of one line integral.
     const QUAD: usize = 400;
 
-    pub fn new<K: Kernel>(kernel: &K, dx: f64) -> Self {
+    pub fn new<const N: usize, K: Kernel<N>>(kernel: &K, dx: f64) -> Self {
         let reach = kernel.radius();
+        if N == 3 {
+            return Self::planes(kernel, dx);
+        }
+        assert_eq!(N, 2, "a half lattice in 2D or 3D");
         let hs = 2.0 * reach / Self::QUAD as f64;
         let line = (0..=Self::TABLE)
             .map(|k| {
                 let y = reach * k as f64 / Self::TABLE as f64;
-                let sum: f64 = (0..=Self::QUAD)
-                    .map(|q| {
-                        let s = -reach + q as f64 * hs;
-                        let wq = if q == 0 || q == Self::QUAD {
-                            1.0
-                        } else if q % 2 == 1 {
-                            4.0
-                        } else {
-                            2.0
-                        };
-                        wq * kernel.w((s * s + y * y).sqrt())
-                    })
-                    .sum();
+                let sum = Self::simpson(|q| {
+                    let s = -reach + q as f64 * hs;
+                    kernel.w((s * s + y * y).sqrt())
+                });
                 sum * hs / 3.0
             })
             .collect();
         Self { dx, reach, line }
+    }
+
+    /// The 3D table: plane integrals by Simpson's rule in the radius.
+    fn planes<const N: usize, K: Kernel<N>>(kernel: &K, dx: f64) -> Self {
+        let reach = kernel.radius();
+        let hs = reach / Self::QUAD as f64;
+        let line = (0..=Self::TABLE)
+            .map(|k| {
+                let y = reach * k as f64 / Self::TABLE as f64;
+                let sum = Self::simpson(|q| {
+                    let s = q as f64 * hs;
+                    s * kernel.w((s * s + y * y).sqrt())
+                });
+                2.0 * std::f64::consts::PI * sum * hs / 3.0
+            })
+            .collect();
+        Self { dx, reach, line }
+    }
+
+    /// Simpson's weighted sum of `f(q)` over the points q = 0..=QUAD (times h / 3: the
+    /// integral).
+    fn simpson(f: impl Fn(usize) -> f64) -> f64 {
+        (0..=Self::QUAD)
+            .map(|q| {
+                let wq = if q == 0 || q == Self::QUAD {
+                    1.0
+                } else if q % 2 == 1 {
+                    4.0
+                } else {
+                    2.0
+                };
+                wq * f(q)
+            })
+            .sum()
     }
 
     fn line_sum(&self, y: f64) -> f64 {
@@ -277,19 +320,19 @@ impl HalfLattice {
 /// kernel-weighted mean of `(x_j - x_i) . n_j` over its free-surface neighbours j with a normal
 /// (None without one), at least 0.
 #[allow(clippy::too_many_arguments)]
-pub fn row_distance<K: Kernel>(
+pub fn row_distance<const N: usize, K: Kernel<N>>(
     i: usize,
-    x: &[Vec2],
+    x: &[Vector<N>],
     nl: &NeighborList,
     domain: &Domain,
-    surface: &Surface,
+    surface: &Surface<N>,
     kernel: &K,
 ) -> Option<f64> {
     let n = surface.is_surface.len();
     let (mut sw, mut sa) = (0.0, 0.0);
     for &j in nl.of(i) {
         let j = j as usize;
-        if j < n && j != i && surface.is_surface[j] && surface.normal[j] != Vec2::zeros() {
+        if j < n && j != i && surface.is_surface[j] && surface.normal[j] != Vector::<N>::zeros() {
             let xji = domain.delta(&x[j], &x[i]);
             let w = kernel.w(xji.norm());
             sw += w;
@@ -305,6 +348,7 @@ mod tests {
     use crate::kernel::QuinticSpline;
     use crate::neighbors::CellGrid;
     use crate::operators::fixtures::disc;
+    use crate::Vec2;
 
     fn run(x: &[Vec2], dr: f64) -> Surface {
         let k = QuinticSpline::new(1.3 * dr);

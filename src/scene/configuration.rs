@@ -279,13 +279,6 @@ impl SceneConfig {
                 super::three_dimensional_scenes()
             ));
         }
-        if self.scheme.is_incompressible() {
-            return refuse(format!(
-                "scheme = {} is built in 2D only (its pressure Poisson and viscous systems and its \
-                 mirror walls); use wcsph or pdri",
-                self.scheme
-            ));
-        }
         match self.numerics.wall_boundary {
             WallBoundary::Image | WallBoundary::Ghost => refuse(format!(
                 "wall_boundary = {}: Fang's image and Ren's ghost particles are built as one row of \

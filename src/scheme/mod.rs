@@ -216,7 +216,8 @@ pub fn build_3d(
                 as Box<dyn Scheme<3>>),
             SchemeKind::Pdri => Ok(Box::new(Pdri::with_walls(kernel, m, params.clone(), dummies()))
                 as Box<dyn Scheme<3>>),
-            SchemeKind::Isph => Err(format!("scheme = {kind} is built in 2D only")),
+            SchemeKind::Isph => Ok(Box::new(Isph::<_, 3>::new(m, params.clone(), numerics, walls))
+                as Box<dyn Scheme<3>>),
         }
     })
 }

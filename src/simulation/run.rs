@@ -99,9 +99,14 @@ impl Space<3> for Const<3> {
         scene.outputs_3d(st, eff)
     }
     fn before_step(_: &dyn Scene, _: &SceneConfig, _: &mut State<3>) {}
-    /// Dummy particles: the one model of the weakly compressible schemes built for a plane.
-    fn paper_wall_model(_: &SceneConfig) -> crate::boundary::Model {
-        crate::boundary::Model::Dummy
+    /// Dummy particles, the one model of the weakly compressible schemes built for a plane;
+    /// the incompressible scheme's own mirror particles (a reflection across any plane).
+    fn paper_wall_model(eff: &SceneConfig) -> crate::boundary::Model {
+        if eff.scheme.is_incompressible() {
+            eff.scheme.paper_wall_model()
+        } else {
+            crate::boundary::Model::Dummy
+        }
     }
 }
 

@@ -14,17 +14,25 @@
 
 use super::{Context, Isph};
 use crate::boundary::ghost::keep_out_of_wall;
+use crate::dim::{Const, Dim, Tensor, Vector};
 use crate::kernel::Kernel;
 use crate::operators::shifting;
 use crate::particles::Fluid;
 use crate::rheology::Rheology;
 use crate::state::State;
-use crate::{Mat2, Vec2};
 use rayon::prelude::*;
 
-impl<R: Rheology> Isph<R> {
+impl<R: Rheology, const N: usize> Isph<R, N>
+where
+    Const<N>: Dim,
+{
     /// Step 1, eq. (23): the positions r* (the particles' own in the Eulerian frame).
-    pub(super) fn predict_positions(&self, fl: &Fluid, dt: f64, lagrangian: bool) -> Vec<Vec2> {
+    pub(super) fn predict_positions(
+        &self,
+        fl: &Fluid<N>,
+        dt: f64,
+        lagrangian: bool,
+    ) -> Vec<Vector<N>> {
         let dom = self.p.domain;
         if lagrangian {
             fl.x.par_iter()
@@ -41,15 +49,15 @@ impl<R: Rheology> Isph<R> {
     /// frame; zero on the inlet's held particles.
     pub(super) fn shifting_velocity(
         &self,
-        fl: &Fluid,
-        ctx: &Context,
-        grad_c: Vec<Vec2>,
-        grad_c_q: Vec<Vec2>,
-    ) -> Vec<Vec2> {
+        fl: &Fluid<N>,
+        ctx: &Context<N>,
+        grad_c: Vec<Vector<N>>,
+        grad_c_q: Vec<Vector<N>>,
+    ) -> Vec<Vector<N>> {
         let (n, dt, h) = (ctx.n, ctx.dt, self.kernel.h());
-        let u_ps: Vec<Vec2> = if ctx.lagrangian {
+        let u_ps: Vec<Vector<N>> = if ctx.lagrangian {
             // The repulsion Q acts on the interior particles of a free-surface flow (eq. (42)).
-            let (grad_c, d): (Vec<Vec2>, Vec<f64>) = match &ctx.surf {
+            let (grad_c, d): (Vec<Vector<N>>, Vec<f64>) = match &ctx.surf {
                 Some(s) => (
                     s.is_surface
                         .iter()
@@ -74,7 +82,13 @@ impl<R: Rheology> Isph<R> {
         // Held particles move with the inflow, not shifted.
         u_ps.into_iter()
             .enumerate()
-            .map(|(i, u)| if ctx.held.holds(i) { Vec2::zeros() } else { u })
+            .map(|(i, u)| {
+                if ctx.held.holds(i) {
+                    Vector::<N>::zeros()
+                } else {
+                    u
+                }
+            })
             .collect()
     }
 
@@ -84,13 +98,13 @@ impl<R: Rheology> Isph<R> {
     /// the plate's by particle (empty without a plate).
     pub(super) fn advect(
         &self,
-        st: &mut State,
-        ctx: &Context,
-        u_ps: &[Vec2],
-        u_new: Vec<Vec2>,
-        conf: Vec<Mat2>,
-        held_momentum: Vec2,
-    ) -> (Vec<Vec2>, Vec<Vec2>) {
+        st: &mut State<N>,
+        ctx: &Context<N>,
+        u_ps: &[Vector<N>],
+        u_new: Vec<Vector<N>>,
+        conf: Vec<Tensor<N>>,
+        held_momentum: Vector<N>,
+    ) -> (Vec<Vector<N>>, Vec<Vector<N>>) {
         let (dom, dt) = (self.p.domain, ctx.dt);
         let fl = &mut st.fluid;
         if ctx.lagrangian {
@@ -106,7 +120,7 @@ impl<R: Rheology> Isph<R> {
             fl.conf = conf;
         }
         let mut contacts = Vec::with_capacity(st.walls.len());
-        let mut plate_contact = vec![Vec2::zeros(); st.plate.map_or(0, |_| st.fluid.len())];
+        let mut plate_contact = vec![Vector::<N>::zeros(); st.plate.map_or(0, |_| st.fluid.len())];
         for (k, wall) in st.walls.iter().enumerate() {
             let own = st.plate == Some(k);
             let (m, reflections) = keep_out_of_wall(&mut st.fluid, wall, |i, m| {
@@ -123,10 +137,10 @@ impl<R: Rheology> Isph<R> {
 
 /// Velocities relative to their mean (summed in index order): the speed King & Lind's shifting
 /// coefficient (41) follows, made independent of the frame (module documentation).
-fn relative_to_mean(u: &[Vec2]) -> Vec<Vec2> {
+fn relative_to_mean<const N: usize>(u: &[Vector<N>]) -> Vec<Vector<N>> {
     if u.is_empty() {
         return Vec::new();
     }
-    let mean = u.iter().fold(Vec2::zeros(), |a, v| a + v) / u.len() as f64;
+    let mean = u.iter().fold(Vector::<N>::zeros(), |a, v| a + v) / u.len() as f64;
     u.iter().map(|v| v - mean).collect()
 }

@@ -41,42 +41,45 @@
 
 use super::{Context, Isph, MIN_TASK};
 use crate::config::ConformationMethod;
+use crate::dim::{Const, Dim, Tensor, Vector};
 use crate::rheology::{self, logconf, Rheology};
 use crate::state::State;
-use crate::{Mat2, Vec2};
 use rayon::prelude::*;
 
-impl<R: Rheology> Isph<R> {
+impl<R: Rheology, const N: usize> Isph<R, N>
+where
+    Const<N>: Dim,
+{
     /// The conformation tensors at n + 1/2 from those of n - 1/2 (`conf`), the velocity
     /// gradients `kappa` of u^n and the ALE velocity `u_ps` (empty for an inelastic model); a
     /// non-finite tensor is a breakdown.
     pub(super) fn conformation(
         &self,
-        conf: &[Mat2],
-        kappa: &[Mat2],
-        u_ps: &[Vec2],
-        ctx: &Context,
-    ) -> Result<Vec<Mat2>, String> {
+        conf: &[Tensor<N>],
+        kappa: &[Tensor<N>],
+        u_ps: &[Vector<N>],
+        ctx: &Context<N>,
+    ) -> Result<Vec<Tensor<N>>, String> {
         let (n, dt, vol, umax) = (ctx.n, ctx.dt, ctx.vol, ctx.umax);
         let (nl, l, pairs) = (&ctx.nl, &ctx.l, &self.pairs);
-        let conf: Vec<Mat2> = if R::ELASTIC {
+        let conf: Vec<Tensor<N>> = if R::ELASTIC {
             let log = self.method == ConformationMethod::Log;
             // The field the ALE term advects: Psi = log A, or A for the direct update.
-            let psi: Vec<Mat2> = conf
+            let psi: Vec<Tensor<N>> = conf
                 .par_iter()
                 .map(|a| if log { logconf::log_spd(a) } else { *a })
                 .collect();
             let (model, method) = (&self.model, self.method);
             // dt u_ps . grad f (King & Lind eq. (31)'s ALE term) for every particle.
-            let ale = |f: &[Mat2]| -> Vec<Mat2> {
+            let ale = |f: &[Tensor<N>]| -> Vec<Tensor<N>> {
                 (0..n)
                     .into_par_iter()
                     .with_min_len(MIN_TASK)
                     .map(|i| {
                         let off = nl.offset(i);
                         let us = l[i].transpose() * u_ps[i];
-                        let mut adv = Mat2::zeros();
-                        if us != Vec2::zeros() {
+                        let mut adv = Tensor::<N>::zeros();
+                        if us != Vector::<N>::zeros() {
                             for (kk, &j) in nl.of(i).iter().enumerate() {
                                 // Virtual particles carry their parent's conformation (the
                                 // mirrors' NoSlip stress).
@@ -92,11 +95,11 @@ impl<R: Rheology> Isph<R> {
             // forward Euler amplifies (module documentation); Shu & Osher's three-stage SSP
             // Runge-Kutta is stable for it. The Lagrangian shift is a small displacement and
             // keeps the single stage of eq. (31).
-            let advected: Vec<Mat2> = if !ctx.lagrangian {
+            let advected: Vec<Tensor<N>> = if !ctx.lagrangian {
                 let d0 = ale(&psi);
-                let p1: Vec<Mat2> = psi.iter().zip(&d0).map(|(p, d)| p + d).collect();
+                let p1: Vec<Tensor<N>> = psi.iter().zip(&d0).map(|(p, d)| p + d).collect();
                 let d1 = ale(&p1);
-                let p2: Vec<Mat2> = psi
+                let p2: Vec<Tensor<N>> = psi
                     .iter()
                     .zip(p1.iter().zip(&d1))
                     .map(|(p, (q, d))| p * 0.75 + (q + d) * 0.25)
@@ -142,15 +145,15 @@ impl<R: Rheology> Isph<R> {
     /// particles (both empty for an inelastic model).
     pub(super) fn polymer_stress(
         &self,
-        st: &State,
-        ctx: &Context,
-        conf: &[Mat2],
-        kappa: &[Mat2],
-    ) -> (Vec<Mat2>, Vec<Mat2>) {
+        st: &State<N>,
+        ctx: &Context<N>,
+        conf: &[Tensor<N>],
+        kappa: &[Tensor<N>],
+    ) -> (Vec<Tensor<N>>, Vec<Tensor<N>>) {
         if !R::ELASTIC {
             return (Vec::new(), Vec::new());
         }
-        let phi: Vec<Mat2> = conf
+        let phi: Vec<Tensor<N>> = conf
             .iter()
             .map(|a| self.model.polymer_stress(a))
             .zip(kappa)

@@ -58,12 +58,12 @@
 //! that, a slowly settling drop felt 3 % of its weight from it).
 
 use super::{Context, Isph, MIN_TASK};
-use crate::kernel::{Kernel, QuinticSpline};
+use crate::dim::{Const, Dim, Tensor, Vector};
+use crate::kernel::{Kernel, QuinticSplineKernel};
 use crate::neighbors::{Domain, NeighborList};
 use crate::operators::surface;
 use crate::rheology::Rheology;
 use crate::state::State;
-use crate::{Mat2, Vec2};
 use rayon::prelude::*;
 
 /// Weights of the solvent's free-surface traction in the implicit viscous step
@@ -87,7 +87,10 @@ pub(super) struct SurfaceRows {
     pub p_fs: Vec<f64>,
 }
 
-impl<R: Rheology> Isph<R> {
+impl<R: Rheology, const N: usize> Isph<R, N>
+where
+    Const<N>: Dim,
+{
     /// The weight of `G s` in the solvent's surface traction: with the normal-stress surface
     /// pressure that part is the pressure's (module documentation, "Free-surface pressure").
     pub(super) fn along(&self) -> f64 {
@@ -106,10 +109,10 @@ impl<R: Rheology> Isph<R> {
     /// neighbours beyond the surface keeps its continuity equation as a Robin row.
     pub(super) fn surface_rows(
         &self,
-        st: &State,
-        ctx: &Context,
+        st: &State<N>,
+        ctx: &Context<N>,
         offsets: &[f64],
-        kappa_star: &[Mat2],
+        kappa_star: &[Tensor<N>],
         mu: &[f64],
         neumann: impl Fn(usize) -> bool,
     ) -> SurfaceRows {
@@ -160,8 +163,7 @@ impl<R: Rheology> Isph<R> {
                     if !s.is_surface[i] || ctx.held.holds(i) {
                         return 0.0;
                     }
-                    let t = Vec2::new(-s.normal[i].y, s.normal[i].x);
-                    -2.0 * mu[i] * t.dot(&(kappa_star[i] * t))
+                    -2.0 * mu[i] * Const::<N>::tangential_trace(&s.normal[i], &kappa_star[i])
                 })
                 .collect()
         } else {
@@ -184,7 +186,7 @@ impl<R: Rheology> Isph<R> {
                     return (0.0, 0.0);
                 }
                 let off = nl.offset(i);
-                let mut m1 = Vec2::zeros();
+                let mut m1 = Vector::<N>::zeros();
                 for (kk, &j) in nl.of(i).iter().enumerate() {
                     let j = j as usize;
                     if j != i {
@@ -212,7 +214,7 @@ impl<R: Rheology> Isph<R> {
     /// otherwise): its own `p_fs` on a surface row, the kernel-weighted mean of its surface
     /// neighbours' elsewhere (zero where the support is full, where it would not matter:
     /// sum_j V grad W_ij = 0 there).
-    pub(super) fn ghost_surface_pressure(&self, ctx: &Context, p_fs: &[f64]) -> Vec<f64> {
+    pub(super) fn ghost_surface_pressure(&self, ctx: &Context<N>, p_fs: &[f64]) -> Vec<f64> {
         let (n, dom) = (ctx.n, self.p.domain);
         let (nl, all_x, xs) = (&ctx.nl, &self.all_x, &ctx.xs);
         match &ctx.surf {
@@ -255,7 +257,7 @@ impl<R: Rheology> Isph<R> {
 /// amplified by depth / spacing and blew up at W/dr = 80). Limited to [0, max_j p_j]: no tension
 /// at the surface, no new extremum. `p_prev` empty (first step): 0.
 #[allow(clippy::too_many_arguments)]
-fn surface_pressure(
+fn surface_pressure<const N: usize>(
     i: usize,
     n: usize,
     p_prev: &[f64],
@@ -263,10 +265,10 @@ fn surface_pressure(
     parent: &[u32],
     offsets: &[f64],
     nl: &NeighborList,
-    kernel: &QuinticSpline,
-    x: &[Vec2],
+    kernel: &QuinticSplineKernel<N>,
+    x: &[Vector<N>],
     dom: &Domain,
-    normal: Vec2,
+    normal: Vector<N>,
     depth: f64,
 ) -> f64 {
     if p_prev.len() != n || depth <= 0.0 {

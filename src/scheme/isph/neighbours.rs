@@ -12,44 +12,47 @@
 
 use super::walls::Virtual;
 use super::{Isph, MIN_TASK};
-use crate::kernel::{Kernel, QuinticSpline};
-use crate::neighbors::{CellGrid, Domain, NeighborList};
+use crate::dim::{Const, Dim, Tensor, Vector};
+use crate::kernel::{Kernel, QuinticSplineKernel};
+use crate::neighbors::{Domain, Grid, NeighborList};
 use crate::operators::pairs::PairCache;
 use crate::operators::{correction, shifting, surface};
 use crate::rheology::Rheology;
 use crate::state::State;
-use crate::{Mat2, Vec2};
 use rayon::prelude::*;
 
 /// What step 2 gives the later steps.
-pub(super) struct Neighbourhood {
+pub(super) struct Neighbourhood<const N: usize> {
     /// Fluid positions r*.
-    pub xs: Vec<Vec2>,
-    pub virt: Virtual,
+    pub xs: Vec<Vector<N>>,
+    pub virt: Virtual<N>,
     pub nl: NeighborList,
     /// Correction matrices L_i, the identity on the free surface.
-    pub l: Vec<Mat2>,
-    pub surf: Option<surface::Surface>,
+    pub l: Vec<Tensor<N>>,
+    pub surf: Option<surface::Surface<N>>,
     /// Corrections to the virtual no-slip velocities (zeros with a free surface).
-    pub u_curv: Vec<Vec2>,
+    pub u_curv: Vec<Vector<N>>,
     /// Concentration gradient of eq. (42) without and with the repulsion Q (Lagrangian frame;
     /// empty otherwise).
-    pub grad_c: Vec<Vec2>,
-    pub grad_c_q: Vec<Vec2>,
+    pub grad_c: Vec<Vector<N>>,
+    pub grad_c_q: Vec<Vector<N>>,
 }
 
-impl<R: Rheology> Isph<R> {
+impl<R: Rheology, const N: usize> Isph<R, N>
+where
+    Const<N>: Dim,
+{
     /// Step 2 for the fluid at r* = `xs` (particle volume `vol`): place the walls' virtual
     /// particles, build the lists and the pair cache (`self.pairs`), the correction matrices
     /// (uncorrected on the free surface), the free surface and, in the Lagrangian frame, the
     /// shifting's sums.
     pub(super) fn neighbourhood(
         &mut self,
-        st: &mut State,
-        xs: Vec<Vec2>,
+        st: &mut State<N>,
+        xs: Vec<Vector<N>>,
         vol: f64,
         lagrangian: bool,
-    ) -> Result<Neighbourhood, String> {
+    ) -> Result<Neighbourhood<N>, String> {
         let n = xs.len();
         let dom = self.p.domain;
         let radius = self.kernel.radius();
@@ -64,7 +67,7 @@ impl<R: Rheology> Isph<R> {
             &mut self.all_x,
         )?;
         let all_x = &self.all_x;
-        let grid = CellGrid::build(all_x, radius, &dom);
+        let grid = Grid::<N>::build(all_x, radius, &dom);
         let nl = NeighborList::build(&grid, all_x, &xs, radius, &dom);
         // Virtual particles carry their parent's volume times the reflection's Jacobian
         // (`Virtual::volume`).
@@ -87,14 +90,14 @@ impl<R: Rheology> Isph<R> {
         if let Some(s) = &surf {
             for (li, &fs) in l.iter_mut().zip(&s.is_surface) {
                 if fs {
-                    *li = Mat2::identity();
+                    *li = Tensor::<N>::identity();
                 }
             }
         }
         // Closed channel: the wall curvature of u^n the odd continuation misses, added to every
         // virtual velocity of this step.
         let u_curv = if self.free_surface {
-            vec![Vec2::zeros(); virt.len()]
+            vec![Vector::<N>::zeros(); virt.len()]
         } else {
             virt.velocity_curvature(&st.walls, &xs, &st.fluid.v, radius)
         };
@@ -111,17 +114,21 @@ impl<R: Rheology> Isph<R> {
     }
 }
 
+/// Per fluid particle: the moment matrix, the surface sums (div r, C, grad C / h) and the
+/// shifting gradients without and with the repulsion.
+type Row<const N: usize> = (Tensor<N>, (f64, f64, Vector<N>), (Vector<N>, Vector<N>));
+
 /// What one fused pass over the neighbour lists gives besides the pair cache (module
 /// documentation).
-struct NeighbourSums {
+struct NeighbourSums<const N: usize> {
     /// Bonet & Lok correction matrices L_i (King & Lind eq. (22)).
-    l: Vec<Mat2>,
+    l: Vec<Tensor<N>>,
     /// Free surface and normals (eqs. (36)-(39)), with a free surface.
-    surface: Option<surface::Surface>,
+    surface: Option<surface::Surface<N>>,
     /// Concentration gradient of eq. (42) without and with the repulsion Q (Lagrangian frame;
     /// empty otherwise): which one a particle takes is known only once the surface is.
-    grad_c: Vec<Vec2>,
-    grad_c_q: Vec<Vec2>,
+    grad_c: Vec<Vector<N>>,
+    grad_c_q: Vec<Vector<N>>,
 }
 
 /// The pair cache `pairs` (gradients and Morris coefficients, full layout), the moment
@@ -132,17 +139,20 @@ struct NeighbourSums {
 /// their per-pair helpers), so the results are bitwise those of the separate operators.
 /// `shift_dr` = Some(dr) computes the shifting sums.
 #[allow(clippy::too_many_arguments)]
-fn neighbour_sums(
-    pairs: &mut PairCache,
-    x: &[Vec2],
+fn neighbour_sums<const N: usize>(
+    pairs: &mut PairCache<N>,
+    x: &[Vector<N>],
     vols: &[f64],
     nl: &NeighborList,
-    k: &QuinticSpline,
+    k: &QuinticSplineKernel<N>,
     dom: &Domain,
     n: usize,
     free_surface: bool,
     shift_dr: Option<f64>,
-) -> NeighbourSums {
+) -> NeighbourSums<N>
+where
+    Const<N>: Dim,
+{
     pairs.reset_full(nl);
     let gs = nl.split_mut(&mut pairs.grad);
     let ms = nl.split_mut(&mut pairs.morris);
@@ -151,15 +161,14 @@ fn neighbour_sums(
         Some(dr) => (k.w(dr), shifting::cohesion_alpha(k.h()), dr),
         None => (1.0, 0.0, 1.0),
     };
-    type Row = (Mat2, (f64, f64, Vec2), (Vec2, Vec2));
-    let rows: Vec<Row> = (gs, ms)
+    let rows: Vec<Row<N>> = (gs, ms)
         .into_par_iter()
         .with_min_len(MIN_TASK)
         .enumerate()
         .map(|(i, (g, m))| {
-            let mut mom = Mat2::zeros();
-            let (mut div, mut c, mut cg) = (0.0, 0.0, Vec2::zeros());
-            let (mut sh, mut sh_q) = (Vec2::zeros(), Vec2::zeros());
+            let mut mom = Tensor::<N>::zeros();
+            let (mut div, mut c, mut cg) = (0.0, 0.0, Vector::<N>::zeros());
+            let (mut sh, mut sh_q) = (Vector::<N>::zeros(), Vector::<N>::zeros());
             for (kk, &j) in nl.of(i).iter().enumerate() {
                 let j = j as usize;
                 let xij = dom.delta(&x[i], &x[j]);

@@ -19,24 +19,24 @@
 //! than one wall, or no plate, the load is left empty (the bins read 0).
 
 use super::{Context, Isph};
+use crate::dim::{Const, Dim, Vector};
 use crate::rheology::Rheology;
 use crate::state::State;
-use crate::Vec2;
 
 /// The plate's force on each fluid particle as a step books it; empty when not booked.
 #[derive(Debug, Default)]
-pub(super) struct PlateBook {
+pub(super) struct PlateBook<const N: usize> {
     /// Force of the plate on fluid particle i \[N/m\] (virtual pairs and viscous share).
-    on_fluid: Vec<Vec2>,
+    on_fluid: Vec<Vector<N>>,
 }
 
-impl PlateBook {
+impl<const N: usize> PlateBook<N> {
     /// Booked for a state whose one wall is its plate, with at least one fluid particle.
-    pub fn of(st: &State) -> Self {
+    pub fn of(st: &State<N>) -> Self {
         let on = st.walls.len() == 1 && st.plate == Some(0);
         Self {
             on_fluid: if on {
-                vec![Vec2::zeros(); st.fluid.len()]
+                vec![Vector::<N>::zeros(); st.fluid.len()]
             } else {
                 Vec::new()
             },
@@ -51,7 +51,7 @@ impl PlateBook {
 
     /// Adds the force `f` of the plate on fluid particle `i` (nothing when not booked).
     #[inline]
-    pub fn add(&mut self, i: usize, f: Vec2) {
+    pub fn add(&mut self, i: usize, f: Vector<N>) {
         if let Some(e) = self.on_fluid.get_mut(i) {
             *e += f;
         }
@@ -60,11 +60,11 @@ impl PlateBook {
     /// Adds the implicit viscous solve's share: `terms` per particle (its virtual pairs' force)
     /// and `total` the solve's whole wall momentum over dt, the difference spread in proportion
     /// to |terms_i| (module documentation).
-    pub fn add_viscous(&mut self, terms: &[Vec2], total: Vec2) {
+    pub fn add_viscous(&mut self, terms: &[Vector<N>], total: Vector<N>) {
         if !self.is_on() {
             return;
         }
-        let sum = terms.iter().fold(Vec2::zeros(), |a, t| a + t);
+        let sum = terms.iter().fold(Vector::<N>::zeros(), |a, t| a + t);
         let rest = total - sum;
         let weight: f64 = terms.iter().map(|t| t.norm()).sum();
         let n = self.on_fluid.len() as f64;
@@ -80,7 +80,7 @@ impl PlateBook {
 
     /// The load: the force of each particle on the plate over the step, `contact[i]` the
     /// momentum the plate's contact gave particle i, `dt` the step. Empty when not booked.
-    pub fn into_load(self, contact: &[Vec2], dt: f64) -> Vec<Vec2> {
+    pub fn into_load(self, contact: &[Vector<N>], dt: f64) -> Vec<Vector<N>> {
         self.on_fluid
             .iter()
             .zip(contact)
@@ -89,18 +89,21 @@ impl PlateBook {
     }
 }
 
-impl<R: Rheology> Isph<R> {
+impl<R: Rheology, const N: usize> Isph<R, N>
+where
+    Const<N>: Dim,
+{
     /// Per fluid particle, the virtual pairs' terms of the implicit viscous solve at the
     /// solved velocities `u`: `theta m sum_{j virtual} coef_ij (u_i - u_j) / rho` with the
     /// no-slip continuation (corrections `visc_curv`) of `u` (as `split_viscous_force`).
     pub(super) fn viscous_wall_terms(
         &self,
-        ctx: &Context,
+        ctx: &Context<N>,
         coef: &[f64],
         theta: f64,
-        visc_curv: &[Vec2],
-        u: &[Vec2],
-    ) -> Vec<Vec2> {
+        visc_curv: &[Vector<N>],
+        u: &[Vector<N>],
+    ) -> Vec<Vector<N>> {
         let c = theta * ctx.mass / self.rho;
         self.virtual_viscous_sums(ctx, coef, visc_curv, u, 1, |_| 0)
             .into_iter()

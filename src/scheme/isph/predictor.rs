@@ -18,21 +18,24 @@ use super::free_surface::SURFACE_TRACTION_TRANSPOSED;
 use super::projection::extend_pressure;
 use super::{Books, Context, Fields, Isph, MIN_TASK};
 use crate::config::ViscousStep;
+use crate::dim::{Const, Dim, Vector};
 use crate::rheology::Rheology;
 use crate::state::State;
-use crate::Vec2;
 use rayon::prelude::*;
 
-impl<R: Rheology> Isph<R> {
+impl<R: Rheology, const N: usize> Isph<R, N>
+where
+    Const<N>: Dim,
+{
     /// The predicted velocity u* of the state `st` for the fields `f` of step 3, with the
     /// inlet's held particles reset to their velocity.
     pub(super) fn predictor(
         &self,
-        st: &State,
-        ctx: &Context,
-        f: &Fields,
-        books: &mut Books,
-    ) -> Result<Vec<Vec2>, String> {
+        st: &State<N>,
+        ctx: &Context<N>,
+        f: &Fields<N>,
+        books: &mut Books<N>,
+    ) -> Result<Vec<Vector<N>>, String> {
         let fl = &st.fluid;
         let (n, dt, vol, rho) = (ctx.n, ctx.dt, ctx.vol, self.rho);
         let (nl, l, pairs) = (&ctx.nl, &ctx.l, &self.pairs);
@@ -41,15 +44,15 @@ impl<R: Rheology> Isph<R> {
         let explicit = self.viscous == ViscousStep::Explicit;
         // Closed channel: the virtual particles of the viscous term continue the wall curvature
         // that the wall's momentum balance prescribes.
-        let visc_curv_closed: Vec<Vec2>;
-        let visc_curv: &[Vec2] = if self.free_surface {
+        let visc_curv_closed: Vec<Vector<N>>;
+        let visc_curv: &[Vector<N>] = if self.free_surface {
             &ctx.u_curv
         } else {
             visc_curv_closed = self.viscous_curvature(ctx, &st.walls, phi, mu);
             &visc_curv_closed
         };
-        let u_visc_closed: Vec<Vec2>;
-        let u_visc: &[Vec2] = if self.free_surface {
+        let u_visc_closed: Vec<Vector<N>>;
+        let u_visc: &[Vector<N>] = if self.free_surface {
             &f.u_n
         } else {
             u_visc_closed = ctx.virt.extend_velocity(&fl.v, visc_curv);
@@ -61,19 +64,19 @@ impl<R: Rheology> Isph<R> {
         let mass = ctx.mass;
         let free_surface = self.free_surface;
         let walls = books.per_wall.len();
-        let rows: Vec<(Vec2, Vec2, Vec2, Vec<Vec2>)> = (0..n)
+        let rows: Vec<(Vector<N>, Vector<N>, Vector<N>, Vec<Vector<N>>)> = (0..n)
             .into_par_iter()
             .with_min_len(MIN_TASK)
             .map(|i| {
                 let off = nl.offset(i);
                 let remap = kappa[i] * u_ps[i];
-                let (mut f, mut fw) = (Vec2::zeros(), Vec2::zeros());
+                let (mut f, mut fw) = (Vector::<N>::zeros(), Vector::<N>::zeros());
                 // The virtual pairs' share wall by wall, where the step splits it.
-                let mut by_wall = vec![Vec2::zeros(); walls];
+                let mut by_wall = vec![Vector::<N>::zeros(); walls];
                 for (kk, &j) in nl.of(i).iter().enumerate() {
                     let j = j as usize;
                     let pj = ctx.source(j);
-                    let mut a = Vec2::zeros();
+                    let mut a = Vector::<N>::zeros();
                     if R::ELASTIC {
                         let phi_j = if j < n { phi[j] } else { phi_virtual[j - n] };
                         a += if free_surface {
@@ -104,11 +107,11 @@ impl<R: Rheology> Isph<R> {
         // acts on u* = u - g dt: measured, the Newtonian channel then settled g dt (0.067 U at
         // 30 across) above Poiseuille everywhere, a wall slip of order dt.
         let g_pred = if self.free_surface {
-            Vec2::zeros()
+            Vector::<N>::zeros()
         } else {
             self.p.gravity
         };
-        let mut rhs: Vec<Vec2> = Vec::with_capacity(n);
+        let mut rhs: Vec<Vector<N>> = Vec::with_capacity(n);
         for (i, (remap, a, aw, by_wall)) in rows.iter().enumerate() {
             books.remap_force += remap * mass;
             books.wall_on_fluid += aw * mass;
@@ -137,12 +140,12 @@ impl<R: Rheology> Isph<R> {
         if explicit && self.free_surface {
             // The solvent's surface traction, explicit (the implicit solve's
             // SurfaceTraction term on u^n): 2 mu_i (G_i + G_i^T) s_i / rho, its mean removed.
-            let acc: Vec<Vec2> = (0..n)
+            let acc: Vec<Vector<N>> = (0..n)
                 .into_par_iter()
                 .with_min_len(MIN_TASK)
                 .map(|i| {
                     if held.holds(i) {
-                        return Vec2::zeros();
+                        return Vector::<N>::zeros();
                     }
                     let s_i = pairs.gradient_sum(nl, i, vol);
                     let sym = self.along() * kappa[i]

@@ -39,12 +39,12 @@
 use super::ppe::{self, GhostLink};
 use super::step_size::DT_COEF_PER_FACTOR;
 use super::{Books, Context, Fields, Isph};
+use crate::dim::{Const, Dim, Vector};
 use crate::kernel::Kernel;
 use crate::operators::kinematics::corrected_velocity_gradients;
 use crate::operators::surface;
 use crate::rheology::Rheology;
 use crate::state::State;
-use crate::Vec2;
 use std::time::Instant;
 
 /// Relaxation coefficient of the density-invariant PPE source (module documentation).
@@ -73,15 +73,18 @@ pub(super) struct Pressure {
     pub p_fs: Vec<f64>,
 }
 
-impl<R: Rheology> Isph<R> {
+impl<R: Rheology, const N: usize> Isph<R, N>
+where
+    Const<N>: Dim,
+{
     /// Solve the PPE for the predicted velocity `u_star` of the state `st`.
     pub(super) fn pressure(
         &self,
-        st: &State,
-        ctx: &Context,
-        f: &Fields,
-        u_star: &[Vec2],
-        books: &mut Books,
+        st: &State<N>,
+        ctx: &Context<N>,
+        f: &Fields<N>,
+        u_star: &[Vector<N>],
+        books: &mut Books<N>,
     ) -> Result<Pressure, String> {
         let t0 = Instant::now();
         let (n, dt, vol, rho) = (ctx.n, ctx.dt, ctx.vol, self.rho);
@@ -186,15 +189,26 @@ impl<R: Rheology> Isph<R> {
     }
 }
 
-/// The concentration `sum_j V_j W_ij` of a particle inside an unbounded square lattice of
-/// spacing `dx` (V = dx^2): the value of a particle of the uncompressed fluid.
-pub(super) fn lattice_concentration<K: Kernel>(kernel: &K, dx: f64) -> f64 {
+/// The concentration `sum_j V_j W_ij` of a particle inside an unbounded square (3D: cubic)
+/// lattice of spacing `dx` (V = dx^N): the value of a particle of the uncompressed fluid.
+pub(super) fn lattice_concentration<const N: usize, K: Kernel<N>>(kernel: &K, dx: f64) -> f64 {
     let reach = (kernel.radius() / dx).ceil() as i64;
     let mut c = 0.0;
-    for j in -reach..=reach {
-        for i in -reach..=reach {
-            c += kernel.w(dx * ((i * i + j * j) as f64).sqrt());
+    if N == 2 {
+        for j in -reach..=reach {
+            for i in -reach..=reach {
+                c += kernel.w(dx * ((i * i + j * j) as f64).sqrt());
+            }
+        }
+        return c * dx * dx;
+    }
+    assert_eq!(N, 3, "a square or cubic lattice");
+    for k in -reach..=reach {
+        for j in -reach..=reach {
+            for i in -reach..=reach {
+                c += kernel.w(dx * ((i * i + j * j + k * k) as f64).sqrt());
+            }
         }
     }
-    c * dx * dx
+    c * dx * dx * dx
 }

@@ -12,23 +12,26 @@
 
 use super::pressure::Pressure;
 use super::{Books, Context, Isph, MIN_TASK};
+use crate::dim::{Const, Dim, Vector};
 use crate::particles::Fluid;
 use crate::rheology::Rheology;
 use crate::state::State;
-use crate::Vec2;
 use rayon::prelude::*;
 
-impl<R: Rheology> Isph<R> {
+impl<R: Rheology, const N: usize> Isph<R, N>
+where
+    Const<N>: Dim,
+{
     /// The new velocities from the predicted `u_star` and the pressure of step 5; the inlet's
     /// held particles keep theirs (`fl.v`).
     pub(super) fn projection(
         &self,
-        fl: &Fluid,
-        ctx: &Context,
-        u_star: &[Vec2],
+        fl: &Fluid<N>,
+        ctx: &Context<N>,
+        u_star: &[Vector<N>],
         pressure: &Pressure,
-        books: &mut Books,
-    ) -> Vec<Vec2> {
+        books: &mut Books<N>,
+    ) -> Vec<Vector<N>> {
         let (n, dt, vol, mass, rho) = (ctx.n, ctx.dt, ctx.vol, ctx.mass, self.rho);
         let (nl, held, pairs) = (&ctx.nl, &ctx.held, &self.pairs);
         let pres = &pressure.p;
@@ -36,13 +39,13 @@ impl<R: Rheology> Isph<R> {
         let g_corr = if self.free_surface {
             self.p.gravity
         } else {
-            Vec2::zeros()
+            Vector::<N>::zeros()
         };
         let p_all = extend_pressure(ctx, pres, &pressure.offsets);
         let p_ghost = self.ghost_surface_pressure(ctx, &pressure.p_fs);
         let walls = books.per_wall.len();
         let grad = self.pressure_accelerations(ctx, &p_all, walls);
-        let proj: Vec<(Vec2, Vec2, Vec2, Vec<Vec2>)> = grad
+        let proj: Vec<(Vector<N>, Vector<N>, Vector<N>, Vec<Vector<N>>)> = grad
             .into_par_iter()
             .with_min_len(MIN_TASK)
             .enumerate()
@@ -53,7 +56,7 @@ impl<R: Rheology> Isph<R> {
                     Some(&ps) if !held.holds(i) => {
                         pairs.gradient_sum(nl, i, vol) * (2.0 * ps / rho)
                     }
-                    _ => Vec2::zeros(),
+                    _ => Vector::<N>::zeros(),
                 };
                 (a + surface, fw, surface, by_wall)
             })
@@ -92,10 +95,10 @@ impl<R: Rheology> Isph<R> {
     /// (module documentation, "Curved walls").
     pub(super) fn pressure_accelerations(
         &self,
-        ctx: &Context,
+        ctx: &Context<N>,
         p_all: &[f64],
         walls: usize,
-    ) -> Vec<(Vec2, Vec2, Vec<Vec2>)> {
+    ) -> Vec<(Vector<N>, Vector<N>, Vec<Vector<N>>)> {
         let (n, vol, rho) = (ctx.n, ctx.vol, self.rho);
         let (nl, pairs) = (&ctx.nl, &self.pairs);
         let curved = self.curved_wall(ctx);
@@ -104,16 +107,16 @@ impl<R: Rheology> Isph<R> {
             .with_min_len(MIN_TASK)
             .map(|i| {
                 let off = nl.offset(i);
-                let (mut f, mut fw) = (Vec2::zeros(), Vec2::zeros());
+                let (mut f, mut fw) = (Vector::<N>::zeros(), Vector::<N>::zeros());
                 // The virtual pairs' share wall by wall, where the step splits it.
-                let mut by_wall = vec![Vec2::zeros(); walls];
+                let mut by_wall = vec![Vector::<N>::zeros(); walls];
                 for (kk, &j) in nl.of(i).iter().enumerate() {
                     let j = j as usize;
                     let a = pairs.grad[off + kk] * ((p_all[i] + p_all[j]) * (-vol / rho));
                     ctx.add_pair(j, a, &mut f, &mut fw, &mut by_wall);
                 }
                 if let Some(w) = curved {
-                    let mut d = Vec2::zeros();
+                    let mut d = Vector::<N>::zeros();
                     for (kk, &j) in nl.of(i).iter().enumerate() {
                         d += pairs.grad[off + kk] * (p_all[j as usize] - p_all[i]);
                     }
@@ -131,12 +134,12 @@ impl<R: Rheology> Isph<R> {
     /// Whether the step is an incremental pressure correction (a closed cell with a curved
     /// wall, module documentation, "Curved walls"): u* carries `-grad p^n / rho`, the PPE
     /// solves for the increment `p^{n+1} - p^n`.
-    pub(super) fn incremental(&self, ctx: &Context) -> bool {
+    pub(super) fn incremental(&self, ctx: &Context<N>) -> bool {
         self.curved_wall(ctx).is_some()
     }
 
     /// The pressure p^n of the state `st` (zeros before the first solve).
-    pub(super) fn previous_pressure(&self, st: &State, ctx: &Context) -> Vec<f64> {
+    pub(super) fn previous_pressure(&self, st: &State<N>, ctx: &Context<N>) -> Vec<f64> {
         if st.pressure.len() == ctx.n {
             st.pressure.clone()
         } else {
@@ -147,7 +150,7 @@ impl<R: Rheology> Isph<R> {
     /// The first curved wall of a closed cell (no free surface), whose mirrors make the
     /// corrected difference form of the pressure gradient and the incremental pressure
     /// correction necessary (module documentation, "Curved walls"); None otherwise.
-    pub(super) fn curved_wall(&self, ctx: &Context) -> Option<usize> {
+    pub(super) fn curved_wall(&self, ctx: &Context<N>) -> Option<usize> {
         if self.free_surface {
             None
         } else {
@@ -157,7 +160,11 @@ impl<R: Rheology> Isph<R> {
 }
 
 /// The fluid pressures `p` extended over the virtual particles (their parents' plus `offsets`).
-pub(super) fn extend_pressure(ctx: &Context, p: &[f64], offsets: &[f64]) -> Vec<f64> {
+pub(super) fn extend_pressure<const N: usize>(
+    ctx: &Context<N>,
+    p: &[f64],
+    offsets: &[f64],
+) -> Vec<f64> {
     p.iter()
         .copied()
         .chain(

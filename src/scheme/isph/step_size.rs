@@ -28,10 +28,10 @@
 
 use super::Isph;
 use crate::config::ViscousStep;
+use crate::dim::{Const, Dim, Tensor};
 use crate::kernel::Kernel;
 use crate::rheology::{logconf, Rheology};
 use crate::state::State;
-use crate::Mat2;
 
 /// The coefficient of King & Lind eq. (28) per unit `time_step_factor` (0.3 -> 0.2).
 pub(super) const DT_COEF_PER_FACTOR: f64 = 2.0 / 3.0;
@@ -76,10 +76,13 @@ pub(super) struct StepSize {
     pub umax: f64,
 }
 
-impl<R: Rheology> Isph<R> {
+impl<R: Rheology, const N: usize> Isph<R, N>
+where
+    Const<N>: Dim,
+{
     /// The stable step of the state `st` (module documentation), at most `max_dt`; a step that
     /// collapsed or fell below [`DT_COLLAPSE`] of the scene's time scale is a breakdown.
-    pub(super) fn step_size(&self, st: &State, max_dt: f64) -> Result<StepSize, String> {
+    pub(super) fn step_size(&self, st: &State<N>, max_dt: f64) -> Result<StepSize, String> {
         let fl = &st.fluid;
         let umax = fl.v.iter().fold(0.0f64, |m, v| m.max(v.norm()));
         let dt_stable = self
@@ -202,14 +205,14 @@ impl<R: Rheology> Isph<R> {
     /// G + s_max = G l_max(A)): the speed of a transverse wave along a string under that
     /// tension (module documentation, "Time step").
     /// Infinite for an inelastic model and in scenes with a free surface (not measured there).
-    fn stretched_wave_dt(&self, conf: &[Mat2]) -> f64 {
+    fn stretched_wave_dt(&self, conf: &[Tensor<N>]) -> f64 {
         if !R::ELASTIC || self.free_surface {
             return f64::INFINITY;
         }
         let g_mod = self.model.modulus();
         let s_max = conf
             .iter()
-            .map(|a| logconf::sym_eigen(&self.model.polymer_stress(a)).l1)
+            .map(|a| Const::<N>::eigenvalues(&logconf::sym_eigen(&self.model.polymer_stress(a)))[0])
             .fold(0.0f64, f64::max);
         let c = ((g_mod + s_max) / self.rho).sqrt();
         if c > 0.0 && c.is_finite() {

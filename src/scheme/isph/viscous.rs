@@ -40,8 +40,8 @@
 use super::free_surface::SURFACE_TRACTION_TRANSPOSED;
 use super::ppe;
 use super::{Books, Context, Isph, MIN_TASK};
+use crate::dim::{Const, Dim, Tensor, Vector};
 use crate::rheology::Rheology;
-use crate::{Mat2, Vec2};
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -60,7 +60,10 @@ pub const MIN_COMPACT_VISCOSITY_RATIO: f64 = 0.05;
 /// scenes keep backward Euler (`Isph::new`).
 pub(super) const VISCOUS_THETA_CLOSED: f64 = 0.5;
 
-impl<R: Rheology> Isph<R> {
+impl<R: Rheology, const N: usize> Isph<R, N>
+where
+    Const<N>: Dim,
+{
     /// The implicit part of the predictor: `(I - theta dt/rho lap_mu) u* = rhs` with the pair
     /// coefficients carrying the pair's mean viscosity `mu`, the virtual particles as no-slip
     /// ghosts (with the corrections `visc_curv`), and with a free surface the solvent's
@@ -68,13 +71,13 @@ impl<R: Rheology> Isph<R> {
     /// the momentum the solve changed (`Books::wall_on_fluid`).
     pub(super) fn viscous_step(
         &self,
-        ctx: &Context,
+        ctx: &Context<N>,
         mu: &[f64],
-        visc_curv: &[Vec2],
+        visc_curv: &[Vector<N>],
         theta: f64,
-        rhs: Vec<Vec2>,
-        books: &mut Books,
-    ) -> Result<Vec<Vec2>, String> {
+        rhs: Vec<Vector<N>>,
+        books: &mut Books<N>,
+    ) -> Result<Vec<Vector<N>>, String> {
         let t0 = Instant::now();
         let (n, dt, vol, mass, rho) = (ctx.n, ctx.dt, ctx.vol, ctx.mass, self.rho);
         let (nl, l, pairs, held) = (&ctx.nl, &ctx.l, &self.pairs, &ctx.held);
@@ -91,7 +94,7 @@ impl<R: Rheology> Isph<R> {
                 }
             });
         let sign = vec![-1.0; ctx.virt.len()];
-        let offset: Vec<Vec2> = ctx
+        let offset: Vec<Vector<N>> = ctx
             .virt
             .u_wall
             .iter()
@@ -105,12 +108,12 @@ impl<R: Rheology> Isph<R> {
             // The solvent's surface traction, implicit (`free_surface`, "Free-surface
             // traction"): every row, k_i = 2 mu_i dt s_i / rho with s_i = sum_j V grad W_ij
             // (zero in a full support on a lattice); not on the inlet's held particles.
-            let k: Vec<Vec2> = (0..n)
+            let k: Vec<Vector<N>> = (0..n)
                 .into_par_iter()
                 .with_min_len(MIN_TASK)
                 .map(|i| {
                     if held.holds(i) {
-                        return Vec2::zeros();
+                        return Vector::<N>::zeros();
                     }
                     pairs.gradient_sum(nl, i, vol) * (2.0 * mu[i] * theta * dt / rho)
                 })
@@ -153,12 +156,12 @@ impl<R: Rheology> Isph<R> {
             // drop, eta = 40 Pa s): its mean is removed, a uniform velocity change that no
             // gradient sees (`free_surface`, "Free-surface traction").
             let ue = ctx.virt.extend_velocity(&u, visc_curv);
-            let net: Vec<Vec2> = (0..n)
+            let net: Vec<Vector<N>> = (0..n)
                 .into_par_iter()
                 .with_min_len(MIN_TASK)
                 .map(|i| {
                     let off = nl.offset(i);
-                    let mut f = Vec2::zeros();
+                    let mut f = Vector::<N>::zeros();
                     for (kk, &j) in nl.of(i).iter().enumerate() {
                         if j as usize != i {
                             f += st_fs.pair(i, off + kk) * (ue[j as usize] - ue[i]);
@@ -187,7 +190,7 @@ impl<R: Rheology> Isph<R> {
                 &self.solver,
             )
             .map_err(|e| format!("implicit viscous step: {e}"))?;
-            books.iterations[1] = (stats[0].iterations + stats[1].iterations) as u64;
+            books.iterations[1] = stats.iter().map(|s| s.iterations as u64).sum();
             if books.plate.is_on() {
                 plate_terms = self.viscous_wall_terms(ctx, &coef, theta, visc_curv, &u);
             }
@@ -196,7 +199,7 @@ impl<R: Rheology> Isph<R> {
         // The momentum the solve changed is the virtual particles' viscous force: the
         // fluid-fluid coefficients are symmetric, so their share cancels pair by pair (and the
         // surface term's net has been removed).
-        let mut total = Vec2::zeros();
+        let mut total = Vector::<N>::zeros();
         for (ui, ri) in u.iter().zip(&rhs) {
             let d = (ui - ri) * (mass / dt);
             books.wall_on_fluid += d;
@@ -214,12 +217,12 @@ impl<R: Rheology> Isph<R> {
     /// the solve changed to the solver's tolerance (the fluid pairs cancel).
     fn split_viscous_force(
         &self,
-        ctx: &Context,
+        ctx: &Context<N>,
         coef: &[f64],
         theta: f64,
-        visc_curv: &[Vec2],
-        u: &[Vec2],
-        books: &mut Books,
+        visc_curv: &[Vector<N>],
+        u: &[Vector<N>],
+        books: &mut Books<N>,
     ) {
         let walls = books.per_wall.len();
         if walls == 0 {
@@ -242,13 +245,13 @@ impl<R: Rheology> Isph<R> {
     /// share of the plate load ([`Isph::viscous_wall_terms`]) are these sums.
     pub(super) fn virtual_viscous_sums(
         &self,
-        ctx: &Context,
+        ctx: &Context<N>,
         coef: &[f64],
-        visc_curv: &[Vec2],
-        u: &[Vec2],
+        visc_curv: &[Vector<N>],
+        u: &[Vector<N>],
         slots: usize,
         slot_of: impl Fn(usize) -> usize + Sync,
-    ) -> Vec<Vec<Vec2>> {
+    ) -> Vec<Vec<Vector<N>>> {
         let (n, nl) = (ctx.n, &ctx.nl);
         let ue = ctx.virt.extend_velocity(u, visc_curv);
         (0..n)
@@ -256,7 +259,7 @@ impl<R: Rheology> Isph<R> {
             .with_min_len(MIN_TASK)
             .map(|i| {
                 let off = nl.offset(i);
-                let mut sums = vec![Vec2::zeros(); slots];
+                let mut sums = vec![Vector::<N>::zeros(); slots];
                 for (kk, &j) in nl.of(i).iter().enumerate() {
                     let j = j as usize;
                     if j >= n {
@@ -270,7 +273,7 @@ impl<R: Rheology> Isph<R> {
 
     /// Viscosity of the Laplacian term (solvent + EVSS's alpha_V eta0) at velocity gradient k.
     #[inline]
-    pub(super) fn laplacian_viscosity(&self, k: &Mat2) -> f64 {
+    pub(super) fn laplacian_viscosity(&self, k: &Tensor<N>) -> f64 {
         self.evss.viscous_viscosity(self.model.solvent_viscosity(k))
     }
 }
@@ -285,7 +288,7 @@ pub fn isph_evss_alpha<R: Rheology>(model: &R, evss_alpha: f64) -> f64 {
     if !R::ELASTIC || eta_p <= 0.0 {
         return evss_alpha;
     }
-    let eta_s = model.solvent_viscosity(&Mat2::zeros());
+    let eta_s = model.solvent_viscosity(&Tensor::<2>::zeros());
     let short = MIN_COMPACT_VISCOSITY_RATIO * (eta_s + eta_p) - eta_s;
     // Relative margin: beta = 0.1 exactly must not switch EVSS on through round-off.
     if short <= 1e-9 * (eta_s + eta_p) {

@@ -18,31 +18,34 @@ use crate::boundary::mirror::MirrorWall;
 use crate::boundary::wall::Wall;
 use crate::boundary::wall_profile;
 use crate::boundary::Boundary;
+use crate::dim::{Const, Dim, Tensor, Vector};
 use crate::geometry::Shape;
 use crate::kernel::Kernel;
-use crate::neighbors::{CellGrid, Domain};
+use crate::neighbors::{Domain, Grid};
 use crate::particles::Fluid;
 use crate::rheology::Rheology;
-use crate::{Mat2, Vec2};
 use std::ops::Range;
 
 /// King & Lind's mirror particles for every plate of `plates`, reaching `reach` (King's code:
 /// the kernel support).
-pub(super) fn mirror_walls(plates: &[Wall], reach: f64) -> Vec<Box<dyn Boundary>> {
+pub(super) fn mirror_walls<const N: usize>(
+    plates: &[Wall<N>],
+    reach: f64,
+) -> Vec<Box<dyn Boundary<N>>> {
     plates
         .iter()
-        .map(|_| Box::new(MirrorWall::new(reach)) as Box<dyn Boundary>)
+        .map(|_| Box::new(MirrorWall::new(reach)) as Box<dyn Boundary<N>>)
         .collect()
 }
 
 /// The virtual particles of every wall for one step, in the order of the lists (after the
 /// fluid particles, wall by wall).
 #[derive(Debug, Default)]
-pub(super) struct Virtual {
+pub(super) struct Virtual<const N: usize = 2> {
     /// The fluid particle each one follows.
     pub parent: Vec<u32>,
     /// The wall's velocity where each one is continued across.
-    pub u_wall: Vec<Vec2>,
+    pub u_wall: Vec<Vector<N>>,
     /// Each one's volume relative to its parent's: the Jacobian of the reflection
     /// ([`Shape::reflection_jacobian`]; exactly 1 across a straight wall). Across a curved
     /// wall the reflection across the local tangent is not area-preserving: behind a concave
@@ -60,20 +63,20 @@ pub(super) struct Virtual {
     pub ranges: Vec<Range<usize>>,
 }
 
-impl Virtual {
+impl<const N: usize> Virtual<N> {
     /// Place the virtual particles of every wall model `walls` of the plates `plates` for the
     /// fluid at `xs`, appending their positions to `all_x` (which holds `xs` already); `radius`
     /// is the search radius. A model without parents is refused.
     pub fn place(
-        walls: &mut [Box<dyn Boundary>],
-        plates: &mut [Wall],
-        xs: &[Vec2],
+        walls: &mut [Box<dyn Boundary<N>>],
+        plates: &mut [Wall<N>],
+        xs: &[Vector<N>],
         radius: f64,
         dom: &Domain,
-        all_x: &mut Vec<Vec2>,
+        all_x: &mut Vec<Vector<N>>,
     ) -> Result<Self, String> {
         let mut v = Self::default();
-        let fluid_grid = CellGrid::build(xs, radius, dom);
+        let fluid_grid = Grid::<N>::build(xs, radius, dom);
         for (wall, plate) in walls.iter_mut().zip(plates.iter_mut()) {
             let before = all_x.len();
             wall.place(plate, xs, &fluid_grid, radius, all_x);
@@ -114,7 +117,7 @@ impl Virtual {
     /// A fluid velocity field `u` extended over the virtual particles: King & Lind's no-slip
     /// continuation `2 u_wall - u_parent` plus the correction `curv` of each (the closed
     /// channel's wall curvature; zeros with a free surface).
-    pub fn extend_velocity(&self, u: &[Vec2], curv: &[Vec2]) -> Vec<Vec2> {
+    pub fn extend_velocity(&self, u: &[Vector<N>], curv: &[Vector<N>]) -> Vec<Vector<N>> {
         let mut out = Vec::with_capacity(u.len() + self.parent.len());
         out.extend_from_slice(u);
         out.extend(
@@ -131,11 +134,11 @@ impl Virtual {
     /// odd continuation misses ([`wall_profile::velocity_corrections`]).
     pub fn velocity_curvature(
         &self,
-        plates: &[Wall],
-        xs: &[Vec2],
-        u: &[Vec2],
+        plates: &[Wall<N>],
+        xs: &[Vector<N>],
+        u: &[Vector<N>],
         radius: f64,
-    ) -> Vec<Vec2> {
+    ) -> Vec<Vector<N>> {
         let mut c = Vec::with_capacity(self.len());
         for (wall, r) in plates.iter().zip(&self.ranges) {
             match wall.plate() {
@@ -148,26 +151,29 @@ impl Virtual {
                 )),
                 // The profile fits are across a straight wall (a fully developed channel); a
                 // curved wall's mirrors take the plain odd continuation.
-                None => c.extend(std::iter::repeat_n(Vec2::zeros(), r.len())),
+                None => c.extend(std::iter::repeat_n(Vector::<N>::zeros(), r.len())),
             }
         }
         c
     }
 }
 
-impl<R: Rheology> Isph<R> {
+impl<R: Rheology, const N: usize> Isph<R, N>
+where
+    Const<N>: Dim,
+{
     /// The virtual particles' Phi from the fluid's `phi`, as each wall model continues it across
     /// its wall (mirrors: the parent's); in the closed channel plus the fitted shear-stress
     /// slope ([`wall_profile::shear_stress_corrections`]).
     pub(super) fn virtual_stresses(
         &self,
-        ctx: &Context,
-        plates: &[Wall],
-        fluid: &Fluid,
-        phi: &[Mat2],
-    ) -> Vec<Mat2> {
+        ctx: &Context<N>,
+        plates: &[Wall<N>],
+        fluid: &Fluid<N>,
+        phi: &[Tensor<N>],
+    ) -> Vec<Tensor<N>> {
         let virt = &ctx.virt;
-        let mut pm = vec![Mat2::zeros(); virt.len()];
+        let mut pm = vec![Tensor::<N>::zeros(); virt.len()];
         for ((wall, plate), r) in self.walls.iter().zip(plates).zip(&virt.ranges) {
             wall.fill_stresses(plate, fluid, &[], phi, &mut pm[r.clone()]);
         }
@@ -198,11 +204,11 @@ impl<R: Rheology> Isph<R> {
     /// viscosity `mu` of the wall's parents, Phi the fluid's `phi` (empty: inelastic).
     pub(super) fn viscous_curvature(
         &self,
-        ctx: &Context,
-        plates: &[Wall],
-        phi: &[Mat2],
+        ctx: &Context<N>,
+        plates: &[Wall<N>],
+        phi: &[Tensor<N>],
         mu: &[f64],
-    ) -> Vec<Vec2> {
+    ) -> Vec<Vector<N>> {
         let (rho, g, radius) = (self.rho, self.p.gravity, self.kernel.radius());
         let virt = &ctx.virt;
         let mut c = Vec::with_capacity(virt.len());
@@ -210,7 +216,7 @@ impl<R: Rheology> Isph<R> {
             let par = &virt.parent[r.clone()];
             // Straight walls only (see `velocity_curvature`).
             let Some(plate) = wall.plate() else {
-                c.extend(std::iter::repeat_n(Vec2::zeros(), par.len()));
+                c.extend(std::iter::repeat_n(Vector::<N>::zeros(), par.len()));
                 continue;
             };
             let slope = if R::ELASTIC {
@@ -243,11 +249,11 @@ impl<R: Rheology> Isph<R> {
     /// exactly zero anyway; across a cylinder they are not: measured on the cylinder array
     /// (16 across, incremental pressure correction), p accumulated the offset every step and
     /// the flow ran backwards through the cylinder.
-    pub(super) fn pressure_offsets(&self, ctx: &Context) -> Vec<f64> {
+    pub(super) fn pressure_offsets(&self, ctx: &Context<N>) -> Vec<f64> {
         let g = if self.free_surface {
             self.p.gravity
         } else {
-            Vec2::zeros()
+            Vector::<N>::zeros()
         };
         let (rho, dom, n) = (self.rho, self.p.domain, ctx.n);
         ctx.virt
@@ -266,6 +272,7 @@ mod tests {
     use crate::boundary::plate::Plate;
     use crate::geometry::Shape;
     use crate::kernel::{CubicSpline, QuinticSpline};
+    use crate::Vec2;
 
     /// A lattice of fluid above a plate inclined at 30 degrees that moves away from the fluid.
     fn layer(dx: f64) -> (Vec<Wall>, Vec<Vec2>) {

@@ -74,9 +74,9 @@
 //! with ILU(0), 4-6x fewer iterations than Jacobi and 1.5-3x faster, warm started from the last
 //! pressure (10-25 % fewer iterations).
 
+use crate::dim::{Tensor, Vector};
 use crate::kernel::Kernel;
 use crate::neighbors::{Domain, NeighborList};
-use crate::{Mat2, Vec2};
 use rayon::prelude::*;
 use thiserror::Error;
 
@@ -99,13 +99,13 @@ const ROW_CHUNK: usize = 256;
 ///
 /// `x` and `vol` cover every point the lists refer to (fluid then ghosts); the lists' query
 /// points are the first `nl.len()` entries of `x`. Pair vectors go through `domain`.
-pub fn morris_coefficients<K: Kernel>(
-    x: &[Vec2],
+pub fn morris_coefficients<const N: usize, K: Kernel<N>>(
+    x: &[Vector<N>],
     vol: &[f64],
     nl: &NeighborList,
     kernel: &K,
     domain: &Domain,
-    correction: Option<&[Mat2]>,
+    correction: Option<&[Tensor<N>]>,
 ) -> Vec<f64> {
     let mut c = vec![0.0; nl.pairs()];
     nl.split_mut(&mut c)

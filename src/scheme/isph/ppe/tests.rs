@@ -3,6 +3,7 @@
 use super::*;
 use crate::kernel::QuinticSpline;
 use crate::operators::fixtures::{channel, disc, ParticleSet};
+use crate::Vec2;
 use std::f64::consts::PI;
 
 fn kernel(dr: f64) -> QuinticSpline {

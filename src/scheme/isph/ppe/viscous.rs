@@ -7,8 +7,8 @@ use super::{
     assemble_helmholtz, helmholtz_rhs, solve, solve_with, CsrMatrix, Factor, GhostLink,
     LinearSystem, SolveError, SolveStats, SolverOptions,
 };
+use crate::dim::{Tensor, Vector};
 use crate::neighbors::NeighborList;
-use crate::{Mat2, Vec2};
 use rayon::prelude::*;
 
 /// Implicit viscous step for both velocity components: `(I - dt nu lap) u = rhs`, one matrix
@@ -16,22 +16,22 @@ use rayon::prelude::*;
 /// entry. Ghost m's velocity is `ghost_sign[m] u_parent + ghost_offset[m]`: a no-slip mirror
 /// has sign -1 and offset 2 u_wall, a periodic image sign +1 and offset 0 (empty = all +1 / 0).
 #[allow(clippy::too_many_arguments)]
-pub fn solve_viscous(
+pub fn solve_viscous<const N: usize>(
     n_fluid: usize,
     nl: &NeighborList,
     coef: &[f64],
     dt_nu: f64,
     ghost_parent: &[u32],
     ghost_sign: &[f64],
-    ghost_offset: &[Vec2],
-    rhs: &[Vec2],
-    u: &mut [Vec2],
+    ghost_offset: &[Vector<N>],
+    rhs: &[Vector<N>],
+    u: &mut [Vector<N>],
     opts: &SolverOptions,
-) -> Result<[SolveStats; 2], SolveError> {
+) -> Result<[SolveStats; N], SolveError> {
     let mut stats = [SolveStats {
         iterations: 0,
         rel_residual: 0.0,
-    }; 2];
+    }; N];
     // One matrix and one preconditioner: the components differ only in their right-hand
     // sides, so the second one is not assembled again (measured: the second assembly was 14 %
     // of the ISPH drop's step, docs/benchmarks.md).
@@ -76,46 +76,46 @@ pub fn solve_viscous(
 /// corrected velocity gradient of the unknown velocity (one hop), so both velocity components
 /// are solved together.
 #[derive(Debug, Clone, Copy)]
-pub struct SurfaceTraction<'a> {
+pub struct SurfaceTraction<'a, const N: usize = 2> {
     /// Per fluid particle: `k_i = 2 eta_i dt s_i / rho` (zero: no surface term in its rows).
-    pub k: &'a [Vec2],
+    pub k: &'a [Vector<N>],
     /// Per stored pair (aligned with the neighbour list): `V_j L_i grad_i W_ij`, the weights of
     /// the corrected velocity gradient `G_i = sum_j (u_j - u_i) w_ij^T`.
-    pub w: &'a [Vec2],
+    pub w: &'a [Vector<N>],
     /// Weight of `G_i s_i` (the normal derivative, which Morris' Laplacian already carries).
     pub along: f64,
     /// Weight of `G_i^T s_i` (the part of the traction Morris' Laplacian misses).
     pub transposed: f64,
 }
 
-impl SurfaceTraction<'_> {
+impl<const N: usize> SurfaceTraction<'_, N> {
     /// The coefficient matrix of `u_j - u_i` in the rows of particle i for its stored pair
     /// `p`: `E_ij = along (w_ij . k_i) I + transposed w_ij k_i^T`.
-    pub fn pair(&self, i: usize, p: usize) -> Mat2 {
+    pub fn pair(&self, i: usize, p: usize) -> Tensor<N> {
         let (w, k) = (self.w[p], self.k[i]);
-        Mat2::identity() * (self.along * w.dot(&k)) + w * k.transpose() * self.transposed
+        Tensor::<N>::identity() * (self.along * w.dot(&k)) + w * k.transpose() * self.transposed
     }
 }
 
 /// The two rows (x and y components) of one particle, as (column, value) lists.
-type RowPair = [Vec<(u32, f64)>; 2];
+type Rows<const N: usize> = [Vec<(u32, f64)>; N];
 
 /// The implicit viscous step with the surface traction: `(I - dt nu lap) u - dt T(u) / rho =
 /// rhs` for both components at once, unknowns interleaved (`2 i + c`), one BiCGStab + ILU(0)
 /// solve. Ghosts as in [`solve_viscous`] (the same sign for both components). Rows without a
 /// surface term are those of [`assemble_helmholtz`] for each component.
 #[allow(clippy::too_many_arguments)]
-pub fn solve_viscous_coupled(
+pub fn solve_viscous_coupled<const N: usize>(
     n_fluid: usize,
     nl: &NeighborList,
     coef: &[f64],
     dt_nu: f64,
     ghost_parent: &[u32],
     ghost_sign: &[f64],
-    ghost_offset: &[Vec2],
-    rhs: &[Vec2],
-    u: &mut [Vec2],
-    surf: &SurfaceTraction,
+    ghost_offset: &[Vector<N>],
+    rhs: &[Vector<N>],
+    u: &mut [Vector<N>],
+    surf: &SurfaceTraction<N>,
     opts: &SolverOptions,
 ) -> Result<SolveStats, SolveError> {
     assert!(nl.len() >= n_fluid);
@@ -123,26 +123,27 @@ pub fn solve_viscous_coupled(
     assert_eq!(surf.w.len(), nl.pairs());
     assert_eq!(surf.k.len(), n_fluid);
     assert_eq!(rhs.len(), n_fluid);
-    let link = |m: usize| -> (usize, f64, Vec2) {
+    let link = |m: usize| -> (usize, f64, Vector<N>) {
         (
             ghost_parent[m] as usize,
             ghost_sign.get(m).copied().unwrap_or(1.0),
-            ghost_offset.get(m).copied().unwrap_or_else(Vec2::zeros),
+            ghost_offset
+                .get(m)
+                .copied()
+                .unwrap_or_else(Vector::<N>::zeros),
         )
     };
-    let per_particle: Vec<(RowPair, Vec2)> = (0..n_fluid)
+    let per_particle: Vec<(Rows<N>, Vector<N>)> = (0..n_fluid)
         .into_par_iter()
         .map(|i| {
             let off = nl.offset(i);
-            let mut rows: [Vec<(u32, f64)>; 2] = [
-                Vec::with_capacity(2 * nl.of(i).len() + 2),
-                Vec::with_capacity(2 * nl.of(i).len() + 2),
-            ];
+            let mut rows: Rows<N> =
+                std::array::from_fn(|_| Vec::with_capacity(N * nl.of(i).len() + N));
             let mut b = rhs[i];
             let mut diag = 1.0;
-            let with_surface = surf.k[i] != Vec2::zeros();
+            let with_surface = surf.k[i] != Vector::<N>::zeros();
             // e_cd: the surface term's coefficient of (u_j - u_i)_d in row (i, c).
-            let mut e_ii = Mat2::zeros();
+            let mut e_ii = Tensor::<N>::zeros();
             for (kk, &j) in nl.of(i).iter().enumerate() {
                 let j = j as usize;
                 if j == i {
@@ -152,10 +153,10 @@ pub fn solve_viscous_coupled(
                 let e = if with_surface {
                     surf.pair(i, off + kk)
                 } else {
-                    Mat2::zeros()
+                    Tensor::<N>::zeros()
                 };
                 let (col, s, shift) = if j < n_fluid {
-                    (j, 1.0, Vec2::zeros())
+                    (j, 1.0, Vector::<N>::zeros())
                 } else {
                     link(j - n_fluid)
                 };
@@ -163,40 +164,38 @@ pub fn solve_viscous_coupled(
                 diag += a;
                 e_ii += e;
                 b += shift * a + e * shift;
-                for c in 0..2 {
+                for (c, row) in rows.iter_mut().enumerate() {
                     if col == i {
                         // A ghost of the particle itself (a mirror across a wall).
-                        rows[c].push(((2 * i + c) as u32, -a * s));
+                        row.push(((N * i + c) as u32, -a * s));
                     } else if a != 0.0 {
-                        rows[c].push(((2 * col + c) as u32, -a * s));
+                        row.push(((N * col + c) as u32, -a * s));
                     }
                     if with_surface {
-                        for d in 0..2 {
+                        for d in 0..N {
                             if e[(c, d)] != 0.0 {
-                                rows[c].push(((2 * col + d) as u32, -e[(c, d)] * s));
+                                row.push(((N * col + d) as u32, -e[(c, d)] * s));
                             }
                         }
                     }
                 }
             }
             for (c, row) in rows.iter_mut().enumerate() {
-                row.push(((2 * i + c) as u32, diag));
+                row.push(((N * i + c) as u32, diag));
                 if with_surface {
-                    for d in 0..2 {
-                        row.push(((2 * i + d) as u32, e_ii[(c, d)]));
+                    for d in 0..N {
+                        row.push(((N * i + d) as u32, e_ii[(c, d)]));
                     }
                 }
             }
             (rows, b)
         })
         .collect();
-    let mut rows = Vec::with_capacity(2 * n_fluid);
-    let mut b = Vec::with_capacity(2 * n_fluid);
-    for ([r0, r1], bi) in per_particle {
-        rows.push(r0);
-        rows.push(r1);
-        b.push(bi[0]);
-        b.push(bi[1]);
+    let mut rows = Vec::with_capacity(N * n_fluid);
+    let mut b = Vec::with_capacity(N * n_fluid);
+    for (r, bi) in per_particle {
+        rows.extend(r);
+        b.extend(bi.iter());
     }
     let sys = LinearSystem {
         matrix: CsrMatrix::from_rows(rows),
@@ -204,10 +203,10 @@ pub fn solve_viscous_coupled(
         anchor: None,
         fixed: Vec::new(),
     };
-    let mut x: Vec<f64> = u.iter().flat_map(|v| [v[0], v[1]]).collect();
+    let mut x: Vec<f64> = u.iter().flat_map(|v| v.iter().copied()).collect();
     let stats = solve(&sys, &mut x, opts)?;
-    for (i, ui) in u.iter_mut().enumerate() {
-        *ui = Vec2::new(x[2 * i], x[2 * i + 1]);
+    for (ui, xi) in u.iter_mut().zip(x.chunks_exact(N)) {
+        ui.copy_from_slice(xi);
     }
     Ok(stats)
 }
