@@ -403,7 +403,8 @@ fn the_tracker_follows_the_criterion_during_the_run() {
 /// one time unit R/⟨u⟩ after the flow has settled (to 1e-4 from t = 0.06 s; the criterion
 /// looks one unit back), `steady_state_time` says when, the window of the averages
 /// spans three units from there, and the fields averaged over two states are the flow's: every
-/// particle binned once per state, the grid's mean u the run's ⟨u⟩, the centre line forward.
+/// particle binned once per state, the grid's mean u the run's ⟨u⟩, the centre line faster
+/// than ⟨u⟩ between the cylinders.
 #[test]
 fn the_run_reports_its_steady_state_and_averages_its_fields() {
     let mut cfg = cell("isph", 8);
@@ -439,6 +440,10 @@ fn the_run_reports_its_steady_state_and_averages_its_fields() {
     let u_grid = cells.iter().map(|(_, m, c)| m[0] * *c as f64).sum::<f64>() / (2 * n) as f64;
     let u = sim.outputs().cylinder_array.mean_velocity;
     assert!((u_grid - u).abs() < 1e-3 * u, "{u_grid} {u}");
+    // Midway between the cylinders the centre line runs faster than the mean (the finite
+    // elements: 1.16 ⟨u⟩; measured 1.11 at 8 across); next to the stagnation points it is
+    // about 0 (-0.04 ⟨u⟩ at 8 across). No conformation for a Newtonian fluid.
     let line = avg.centre_line();
-    assert!(!line.is_empty() && line.iter().all(|(_, m, _)| m[0] >= 0.0 && m[2] == 0.0));
+    let fastest = line.iter().map(|(_, m, _)| m[0]).fold(f64::MIN, f64::max);
+    assert!(fastest > u && line.iter().all(|(_, m, _)| m[0] > -0.1 * u && m[2] == 0.0));
 }
