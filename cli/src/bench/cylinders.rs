@@ -406,6 +406,8 @@ fn figures(out: &Path, sweeps: &[(&'static str, Vec<CellRun>)]) -> BenchResult<(
                     ],
                     nozzle: None,
                     axes: ("x".into(), "y".into()),
+                    // A field, not a lattice: squares one spacing across.
+                    splat: true,
                 }
             })
             .collect();
