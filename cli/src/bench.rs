@@ -1,7 +1,7 @@
 //! Benchmarks: `viscosph bench <what>`. Speed is measured here, never by timed assertions in tests.
 //!
 //! One file per command under `bench/`: [`mod@drop`], [`throughput`], [`scaling`], [`stability`], [`accuracy`]
-//! (with `replot`), [`rheologies`], [`jet`], [`channel`], [`isph`] and [`report`]; here are the
+//! (with `replot`), [`rheologies`], [`jet`], [`channel`], [`cylinders`], [`isph`] and [`report`]; here are the
 //! arguments, the dispatch and what several commands share (cases, the convergence order, the
 //! machine description).
 //!
@@ -10,6 +10,7 @@
 
 pub mod accuracy;
 pub mod channel;
+pub mod cylinders;
 pub mod drop;
 pub mod isph;
 pub mod jet;
@@ -61,6 +62,9 @@ pub enum BenchKind {
     /// Start-up Poiseuille flow against Waters & King: accuracy and order, King & Lind's Wi
     /// sweeps, the non-linear models' steady profiles (see `bench/channel.rs`).
     Channel(channel::ChannelArgs),
+    /// King & Lind's periodic array of cylinders: Wi sweep per scheme to the steady state, cost
+    /// against Wi, Newtonian drag against resolution, Figs. 9-11 (see `bench/cylinders.rs`).
+    Cylinders,
     /// ISPH (King & Lind 2021) on their Newtonian Re = 4 drop: cost with the implicit and the
     /// explicit viscous step (steps, PPE iterations per step, share of time in the linear
     /// solves), convergence of W*(t*) at W/dr = 20, 40, 80, and the volume it keeps.
@@ -91,6 +95,7 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
         BenchKind::Rheologies => Some("rheologies"),
         BenchKind::Jet => Some("jet"),
         BenchKind::Channel(_) => Some("channel"),
+        BenchKind::Cylinders => Some("cylinders"),
         BenchKind::Isph => Some("isph"),
         BenchKind::Report { .. } | BenchKind::Replot => None,
     };
@@ -103,6 +108,7 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
         BenchKind::Rheologies => rheologies::bench_rheologies(&args.out, args.quick)?,
         BenchKind::Jet => jet::bench_jet(&args.out, args.quick)?,
         BenchKind::Channel(ref c) => channel::main(c, &args.out, args.quick)?,
+        BenchKind::Cylinders => cylinders::bench_cylinders(&args.out, args.quick)?,
         BenchKind::Isph => isph::bench_isph(&args.out, args.quick)?,
         BenchKind::Report { ref docs } => report::bench_report(&args.out, docs)?,
         BenchKind::Replot => accuracy::bench_replot(&args.out)?,

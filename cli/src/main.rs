@@ -140,6 +140,20 @@ fn main() -> ExitCode {
                     for line in &r.summary {
                         println!("{line}");
                     }
+                    if let Some(a) = &r.averages {
+                        let (n, (t0, t1)) = a.samples();
+                        println!(
+                            "fields averaged over {n} outputs from t = {t0:.4} s to {t1:.4} s \
+                             (steady at {:.4} s{}): averaged_fields.csv, averaged_fields.vtk, \
+                             centreline.csv",
+                            a.window().start,
+                            if a.window().stop && t1 >= a.window().end {
+                                "; stop_at_steady_state ended the run there"
+                            } else {
+                                ""
+                            }
+                        );
+                    }
                     if profile {
                         println!(
                             "\nwhere the steps' time went ({} thread(s); shares of the CPU time):\n{}between the steps \

@@ -43,6 +43,10 @@ pub fn is_run_output(name: &str) -> bool {
             | "particles.png"
             | "particles_top.png"
             | "scene.toml"
+            | "averaged_fields.csv"
+            | "averaged_fields.vtk"
+            | "averaged_particles.csv"
+            | "centreline.csv"
     ) || (name.starts_with("particles_") && name.ends_with(".vtk"))
 }
 
@@ -204,6 +208,9 @@ pub struct RunResult {
     pub between_steps: (f64, f64),
     /// Threads of the run's pool.
     pub threads: usize,
+    /// The fields averaged over the steady window of a scene with a steady state
+    /// (`Scene::steady_window`), from the outputs inside it; None if the run never got there.
+    pub averages: Option<viscosph::scene::FieldAverage>,
 }
 
 impl RunResult {
@@ -445,6 +452,7 @@ pub fn run(
         sim.scene().reference_length(eff)
     };
     sim.set_stop_flag(opts.stop.clone());
+    let mut averages: Option<viscosph::scene::FieldAverage> = None;
     for k in 1..=n_out {
         if error.is_some() {
             break;
@@ -484,6 +492,9 @@ pub fn run(
             let (wall, cpu) = t.elapsed();
             between.0 += wall;
             between.1 += cpu;
+        }
+        if steady_average(&sim, &mut averages) {
+            break;
         }
     }
     if error.is_some() || interrupted.is_some() {
@@ -530,6 +541,7 @@ pub fn run(
         timings: sim.timings(),
         between_steps: between,
         threads: sim.threads(),
+        averages,
     };
     if let Some(d) = &opts.out_dir {
         let path = d.join("timeseries.csv");
@@ -590,8 +602,130 @@ pub fn run(
             "write",
             &path,
         )?;
+        if let Some(a) = &result.averages {
+            write_averages(d, a)?;
+        }
     }
     Ok(result)
+}
+
+/// Once a 2D flow is steady (`Scene::steady_window`): take the state at an output time inside
+/// the window into the averages. Returns whether the run ends here (the window is complete and
+/// the scene asks to stop there).
+fn steady_average(sim: &Simulation, averages: &mut Option<viscosph::scene::FieldAverage>) -> bool {
+    if sim.state_3d().is_some() {
+        return false;
+    }
+    let (eff, st) = (sim.effective_config(), sim.state());
+    let Some(window) = sim.scene().steady_window(eff, st) else {
+        return false;
+    };
+    if st.time >= window.start && st.time <= window.end {
+        averages
+            .get_or_insert_with(|| viscosph::scene::FieldAverage::new(eff, window))
+            .add(st);
+    }
+    // The record's time (an output time; the state may have stepped past it).
+    window.stop && sim.time() >= window.end
+}
+
+/// The averaged fields of a steady run: `averaged_fields.csv` and `.vtk` (the grid's cells, a
+/// point each, for ParaView), `averaged_particles.csv` (per particle, when the particles stayed
+/// put: ISPH's Eulerian frame) and `centreline.csv` (the centre line, u over the mean velocity
+/// of the cell's fluid).
+pub fn write_averages(dir: &Path, a: &viscosph::scene::FieldAverage) -> Result<(), FileError> {
+    use std::fmt::Write as _;
+    let (samples, (t0, t1)) = a.samples();
+    let cells = a.cells();
+    let head = format!(
+        "# time-averaged over {samples} states from t = {t0} s to {t1} s (steady at {} s), \
+         Eulerian bins of one particle spacing\n",
+        a.window().start
+    );
+    // One row of a field file: where, then u, v, speed, tr A, tau_xx, det A.
+    let row = |c: &viscosph::Vec2, m: &[f64; 5]| {
+        format!(
+            "{},{},{},{},{},{},{},{}",
+            c.x,
+            c.y,
+            m[0],
+            m[1],
+            m[0].hypot(m[1]),
+            m[2],
+            m[3],
+            m[4]
+        )
+    };
+    let mut csv = head.clone() + "x,y,u,v,speed,trace_A,tau_xx,det_A,particles\n";
+    for (c, m, n) in &cells {
+        let _ = writeln!(csv, "{},{n}", row(c, m));
+    }
+    let path = dir.join("averaged_fields.csv");
+    at(std::fs::write(&path, csv), "write", &path)?;
+    let points: Vec<[f64; 3]> = cells.iter().map(|(c, _, _)| [c.x, c.y, 0.0]).collect();
+    let v: Vec<[f64; 3]> = cells.iter().map(|(_, m, _)| [m[0], m[1], 0.0]).collect();
+    let column = |k: usize| cells.iter().map(|(_, m, _)| m[k]).collect::<Vec<_>>();
+    let (trace, tau, det) = (column(2), column(3), column(4));
+    let path = dir.join("averaged_fields.vtk");
+    at(
+        vtk::write_particles(
+            &path,
+            &points,
+            &v,
+            &[
+                vtk::Field {
+                    name: "trace_A",
+                    values: &trace,
+                },
+                vtk::Field {
+                    name: "tau_xx",
+                    values: &tau,
+                },
+                vtk::Field {
+                    name: "det_A",
+                    values: &det,
+                },
+            ],
+        ),
+        "write",
+        &path,
+    )?;
+    if let Some(particles) = a.particles() {
+        let mut csv = head.clone() + "x,y,u,v,speed,trace_A,tau_xx,det_A\n";
+        for (c, m) in &particles {
+            let _ = writeln!(csv, "{}", row(c, m));
+        }
+        let path = dir.join("averaged_particles.csv");
+        at(std::fs::write(&path, csv), "write", &path)?;
+    }
+    let mean = mean_speed(&cells);
+    let mut csv = head + "x,u,u_over_mean,tau_xx,det_A,trace_A,particles\n";
+    for (x, m, n) in a.centre_line() {
+        let _ = writeln!(
+            csv,
+            "{x},{},{},{},{},{},{n}",
+            m[0],
+            m[0] / mean,
+            m[3],
+            m[4],
+            m[2]
+        );
+    }
+    let path = dir.join("centreline.csv");
+    at(std::fs::write(&path, csv), "write", &path)
+}
+
+/// The mean of u over the grid's cells weighted by the particles seen in them: the mean
+/// velocity ⟨u⟩ of the fluid over the window.
+pub fn mean_speed(cells: &[(viscosph::Vec2, [f64; 5], u64)]) -> f64 {
+    let (sum, n) = cells.iter().fold((0.0, 0u64), |(s, c), (_, m, n)| {
+        (s + m[0] * *n as f64, c + n)
+    });
+    if n > 0 {
+        sum / n as f64
+    } else {
+        f64::NAN
+    }
 }
 
 /// The scene's plot of its outputs against time (`Scene::time_plot`: W* = width/D and

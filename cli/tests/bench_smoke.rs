@@ -307,3 +307,30 @@ fn scaling_rows_and_serial_share() {
         assert!(amdahl > 0.0 && amdahl <= 1.0, "{r:?}");
     }
 }
+
+/// `bench cylinders --quick`: ISPH at 8 across, Wi = 0 and 0.2, each to its steady state and
+/// three time units on. The benchmark itself fails unless both reach it with Q > 0, the
+/// Newtonian K within 15 % of the finite elements' 92.83 and ⟨u⟩ at Wi = 0.2 above the
+/// Newtonian; here: the table's rows and the figures.
+#[test]
+fn cylinders_quick() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path();
+    bench(&["cylinders"], out);
+    let (h, rows) = csv(&out.join("cylinders.csv"));
+    assert_eq!((h[0].as_str(), h[12].as_str()), ("part", "K"));
+    let wi: Vec<&Vec<String>> = rows.iter().filter(|r| r[0] == "wi").collect();
+    assert_eq!(wi.len(), 2, "Wi = 0 and 0.2");
+    for r in &wi {
+        let steady: f64 = r[5].parse().expect("steady time");
+        let u: f64 = r[10].parse().unwrap();
+        assert!(steady > 0.0 && u > 0.0, "{r:?}");
+    }
+    for p in [
+        "cylinders_speed.png",
+        "cylinders_trace.png",
+        "cylinders_centreline.png",
+    ] {
+        png(&out.join(p));
+    }
+}

@@ -39,10 +39,10 @@
 //! state the body force equals drag plus wall shear (the continuum's `rho g A_fluid = F_cyl +
 //! F_walls`; test `the_momentum_balance_closes_at_steady_state`).
 
-use super::{Outputs, Predictions, Scene, SceneConfig, SceneType};
+use super::{Outputs, Predictions, Scene, SceneConfig, SceneType, SteadyWindow};
 use crate::boundary::plate::Plate;
 use crate::boundary::wall::Wall;
-use crate::config::{real, real_pos, ConfigError};
+use crate::config::{integer, real, real_pos, ConfigError};
 use crate::geometry::{Ball, Shape};
 use crate::neighbors::Domain;
 use crate::particles::Fluid;
@@ -60,6 +60,8 @@ crate::params! {
             "Cylinder array scene: length L of the periodic cell, the distance between neighbouring cylinders (rounded to whole particle spacings); 0 = 6 R",
         cylinder_cell_height: f64 = real(0.0, 0.0, 1.0e4), vr 69, unit "m";
             "Cylinder array scene: height H of the cell, the distance between its two walls; 0 = 4 R",
+        stop_at_steady_state: i64 = integer(0, 0, 1), vr 75, unit "";
+            "Cylinder array scene: 1 = viscosph run and the benchmarks end the run three time units R/<u> after King & Lind's steady state (the flow rate changes by less than 2 % over one time unit), when the averages over those three units are complete; 0 = run to the end time. In the FMU the importer owns time: there it changes nothing, the output steady_state_reached says when the flow is steady",
     }
 }
 
@@ -70,6 +72,8 @@ crate::outputs! {
         cylinder_lift: vr 121, unit "N/m"; "Cylinder array: force of the fluid on the cylinder across the flow, per unit depth (0 in other scenes)",
         wall_shear_force: vr 172, unit "N/m"; "Cylinder array: force of the fluid on the two channel walls together along the flow, per unit depth (0 in other scenes)",
         mean_velocity: vr 173, unit "m/s"; "Cylinder array: mean flow velocity ⟨u⟩ over the fluid, sum V u / sum V (0 in other scenes)",
+        steady_state_reached: vr 174, unit ""; "Cylinder array: 1 from King & Lind's steady state on (the flow rate changed by less than 2 % over the last time unit R/⟨u⟩, checked before every step), 0 before (0 in other scenes)",
+        steady_state_time: vr 175, unit "s"; "Cylinder array: the time at which King & Lind's steady state was reached; 0 before (0 in other scenes)",
     }
 }
 
@@ -140,12 +144,33 @@ pub struct SteadyState {
     pub means: Option<[f64; 5]>,
 }
 
-/// The flow rate of a record at time `t` (linear between rows; `series` sorted by time).
-fn flow_rate_at(series: &[(f64, Outputs)], t: f64) -> f64 {
-    let k = series.partition_point(|(s, _)| *s < t).clamp(1, series.len() - 1);
-    let ((t0, a), (t1, b)) = (&series[k - 1], &series[k]);
+/// The flow rate at time `t` of samples (time, flow rate) sorted by time (linear between
+/// them).
+fn flow_rate_at(samples: &[(f64, f64)], t: f64) -> f64 {
+    let k = samples.partition_point(|(s, _)| *s < t).clamp(1, samples.len() - 1);
+    let ((t0, a), (t1, b)) = (samples[k - 1], samples[k]);
     let w = if t1 > t0 { (t - t0) / (t1 - t0) } else { 1.0 };
-    a.channel.flow_rate + w * (b.channel.flow_rate - a.channel.flow_rate)
+    a + w * (b - a)
+}
+
+/// King & Lind's criterion at the last of `samples` (time, flow rate, sorted by time) with
+/// the time unit `unit` = R / ⟨u⟩ there: the flow rate differs by less than 2 % from its value
+/// one time unit earlier, which the samples must reach back to. The one test of steadiness,
+/// of a record of outputs ([`steady_state`]) and of the run itself ([`SteadyTracker`]).
+fn settled(samples: &[(f64, f64)], unit: f64) -> bool {
+    let (Some(&(t, q)), Some(&(t_first, _))) = (samples.last(), samples.first()) else {
+        return false;
+    };
+    let earlier = t - unit;
+    samples.len() > 1
+        && earlier >= t_first
+        && (q - flow_rate_at(samples, earlier)).abs() < 0.02 * q.abs()
+}
+
+/// The time unit R / ⟨u⟩ of a flow with mean velocity `u`, None while the flow is at rest or
+/// runs backwards.
+fn time_unit(radius: f64, u: f64) -> Option<f64> {
+    (u > 0.0).then(|| radius / u)
 }
 
 /// The cylinder's averaged quantities of one output row.
@@ -163,24 +188,21 @@ fn averaged(o: &Outputs) -> [f64; 5] {
 /// King & Lind's steady state of a record (see [`SteadyState`]) for a cylinder of radius
 /// `radius`; None if the flow rate never settled to 2 % over a time unit.
 pub fn steady_state(series: &[(f64, Outputs)], radius: f64) -> Option<SteadyState> {
-    if series.len() < 2 {
-        return None;
-    }
-    let t_first = series[0].0;
-    let (time, unit) = series.iter().find_map(|(t, o)| {
-        let u = o.cylinder_array.mean_velocity;
-        if u <= 0.0 {
-            return None;
-        }
-        let unit = radius / u;
-        let q = o.channel.flow_rate;
-        let earlier = t - unit;
-        (earlier >= t_first && (q - flow_rate_at(series, earlier)).abs() < 0.02 * q.abs())
-            .then_some((*t, unit))
+    let samples: Vec<(f64, f64)> = series.iter().map(|(t, o)| (*t, o.channel.flow_rate)).collect();
+    let (time, unit) = series.iter().enumerate().find_map(|(k, (t, o))| {
+        let unit = time_unit(radius, o.cylinder_array.mean_velocity)?;
+        settled(&samples[..=k], unit).then_some((*t, unit))
     })?;
+    Some(steady_means(series, time, unit))
+}
+
+/// The means of a record over the three time units from a steady state reached at `time` with
+/// the time unit `unit` (trapezoidal rule over the records), if the record reaches that far.
+pub fn steady_means(series: &[(f64, Outputs)], time: f64, unit: f64) -> SteadyState {
     let end = time + 3.0 * unit;
     let last = series.last().map_or(time, |(t, _)| *t);
-    let means = (last >= end).then(|| {
+    // (Rounding: `end` recomputed from a window's ends may differ from theirs in the last bit.)
+    let means = (last >= end - 1e-9 * unit).then(|| {
         let mut sum = [0.0; 5];
         let rows: Vec<_> = series
             .iter()
@@ -196,7 +218,69 @@ pub fn steady_state(series: &[(f64, Outputs)], radius: f64) -> Option<SteadyStat
         let span = rows.last().map_or(0.0, |r| r.0) - time;
         sum.map(|s| if span > 0.0 { s / span } else { 0.0 })
     });
-    Some(SteadyState { time, unit, means })
+    SteadyState { time, unit, means }
+}
+
+/// Samples of the flow rate kept per time unit by [`SteadyTracker`].
+const SAMPLES_PER_UNIT: f64 = 64.0;
+
+/// King & Lind's criterion followed during the run, before every step (the scene's data in
+/// the state, [`crate::state::SceneState`], so a saved FMU state carries it): the flow rate
+/// sampled at least a 64th of a time unit apart over the last two time units, and once the
+/// criterion holds, when (it is not tested again). What the output `steady_state_reached`
+/// reports and what ends a run under `stop_at_steady_state`.
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct SteadyTracker {
+    /// (time, flow rate), sorted by time.
+    samples: Vec<(f64, f64)>,
+    /// The time the criterion first held and the time unit R / ⟨u⟩ then.
+    pub reached: Option<(f64, f64)>,
+}
+
+impl SteadyTracker {
+    /// The tracker of a state (a fresh one if the state holds none).
+    pub fn of(st: &State) -> Self {
+        st.scene.decode().unwrap_or_default()
+    }
+
+    /// Take the flow at time `t` (flow rate `q`, mean velocity `u`) into account.
+    fn observe(&mut self, t: f64, q: f64, u: f64, radius: f64) {
+        if self.reached.is_some() {
+            return;
+        }
+        let Some(unit) = time_unit(radius, u) else {
+            return;
+        };
+        if self
+            .samples
+            .last()
+            .is_some_and(|(s, _)| t - s < unit / SAMPLES_PER_UNIT)
+        {
+            return;
+        }
+        self.samples.push((t, q));
+        if settled(&self.samples, unit) {
+            self.reached = Some((t, unit));
+            self.samples.clear();
+            return;
+        }
+        // Keep two time units, the first sample before them included.
+        let keep = self.samples.partition_point(|(s, _)| *s < t - 2.0 * unit);
+        self.samples.drain(..keep.saturating_sub(1));
+    }
+}
+
+/// Where a run stands against King & Lind's steady state (see [`Scene::steady_window`]).
+pub fn steady_window(cfg: &SceneConfig, st: &State) -> Option<SteadyWindow> {
+    let (start, unit) = SteadyTracker::of(st).reached?;
+    Some(SteadyWindow {
+        start,
+        end: start + 3.0 * unit,
+        stop: cfg.cylinder_array.stop_at_steady_state == 1,
+        lower: Vec2::zeros(),
+        upper: Vec2::new(period(cfg), height(cfg)),
+        centre_line: 0.5 * height(cfg),
+    })
 }
 
 /// The drag coefficient K = F / (eta0 ⟨u⟩) of King & Lind's cell for a Newtonian fluid, from
@@ -375,8 +459,24 @@ impl Scene for CylinderArray {
         (fluid, vec![bottom.into(), top.into(), cylinder.into()])
     }
 
+    /// King & Lind's criterion, on the state the step starts from ([`SteadyTracker`]).
+    fn before_step(&self, cfg: &SceneConfig, st: &mut State) {
+        let mut tracker = SteadyTracker::of(st);
+        if tracker.reached.is_some() {
+            return;
+        }
+        let (u, q) = mean_velocity_and_flow_rate(&st.fluid, period(cfg));
+        tracker.observe(st.time, q, u, cfg.cylinder_array.cylinder_radius);
+        st.scene = crate::state::SceneState::encode(&tracker);
+    }
+
+    fn steady_window(&self, cfg: &SceneConfig, st: &State) -> Option<SteadyWindow> {
+        steady_window(cfg, st)
+    }
+
     /// The health figures of the shared outputs and the cylinder's force.
     fn outputs(&self, st: &State, cfg: &SceneConfig) -> Outputs {
+        let steady = SteadyTracker::of(st).reached;
         let f = st.wall_forces.get(CYLINDER).copied().unwrap_or_default();
         let shear = st.wall_forces.iter().take(CYLINDER).map(|f| f.x).sum();
         let (mean, flow) = mean_velocity_and_flow_rate(&st.fluid, period(cfg));
@@ -391,6 +491,8 @@ impl Scene for CylinderArray {
                 cylinder_lift: f.y,
                 wall_shear_force: shear,
                 mean_velocity: mean,
+                steady_state_reached: if steady.is_some() { 1.0 } else { 0.0 },
+                steady_state_time: steady.map_or(0.0, |(t, _)| t),
             },
             ..Default::default()
         }
@@ -443,7 +545,12 @@ impl Scene for CylinderArray {
                 (c.cylinder_drag + c.wall_shear_force) / body
             ));
         }
-        let Some(steady) = steady_state(series, r) else {
+        // The run's own verdict (checked before every step) if it has one, else the record's.
+        let steady = match SteadyTracker::of(st).reached {
+            Some((time, unit)) => Some(steady_means(series, time, unit)),
+            None => steady_state(series, r),
+        };
+        let Some(steady) = steady else {
             lines.push(
                 "cylinder array: not steady (King & Lind's criterion: the flow rate changes by \
                  less than 2 % over one time unit R / ⟨u⟩)"

@@ -12,10 +12,12 @@
 //! between scenes is a method of [`Scene`] (with a default that most scenes keep), and what
 //! differs between schemes is data [`SchemeKind`] provides.
 
+pub mod averages;
 mod configuration;
 pub mod report;
 mod table;
 
+pub use averages::{FieldAverage, SteadyWindow};
 pub use configuration::{Inputs, MAX_PARTICLES};
 pub use report::{time_text, NoPredictions, Prediction, Predictions, TimePlot, TimePlotPanel};
 pub use table::{
@@ -154,8 +156,15 @@ pub trait Scene: Send + Sync {
         State::new(fluid, walls, self.plate_wall())
     }
 
-    /// Called before every step (inflow).
+    /// Called before every step (inflow, the cylinder array's steady-state criterion).
     fn before_step(&self, _cfg: &SceneConfig, _st: &mut State) {}
+
+    /// Once the flow of a state is steady: the span of time over which a run averages its
+    /// fields ([`averages::FieldAverage`]) and whether the run ends with it. None for a scene
+    /// without a steady state, and before it.
+    fn steady_window(&self, _cfg: &SceneConfig, _st: &State) -> Option<SteadyWindow> {
+        None
+    }
 
     // ---- Three dimensions (`dimension = 3`).
 

@@ -80,6 +80,16 @@ pub const SECTIONS: &[Section] = &[
         ],
     },
     Section {
+        title: "Periodic array of cylinders (King & Lind section IV.B)",
+        command: "nice -n 5 viscosph bench cylinders",
+        stem: "cylinders",
+        pngs: &[
+            "cylinders_speed.png",
+            "cylinders_trace.png",
+            "cylinders_centreline.png",
+        ],
+    },
+    Section {
         title: "PySPH side by side",
         command: "python3 examples/compare_pysph.py",
         stem: "pysph",
