@@ -89,19 +89,7 @@ struct Rect {
 
 impl Rect {
     fn from_rows(rows: Vec<Vec<(u32, f64)>>) -> Self {
-        let mut row_ptr = Vec::with_capacity(rows.len() + 1);
-        row_ptr.push(0);
-        for r in &rows {
-            row_ptr.push(row_ptr.last().expect("non-empty") + r.len());
-        }
-        let col = rows
-            .par_iter()
-            .flat_map_iter(|r| r.iter().map(|e| e.0))
-            .collect();
-        let val = rows
-            .par_iter()
-            .flat_map_iter(|r| r.iter().map(|e| e.1))
-            .collect();
+        let (row_ptr, col, val) = flatten_rows(&rows);
         Self { row_ptr, col, val }
     }
 
@@ -219,17 +207,20 @@ impl DenseLu {
 
     fn solve(&self, r: &[f64], z: &mut [f64]) {
         let n = self.n;
+        // Same order of terms as the textbook loops (column ascending).
         for i in 0..n {
+            let row = &self.lu[i * n..i * n + i];
             let mut s = r[self.perm[i]];
-            for c in 0..i {
-                s -= self.lu[i * n + c] * z[c];
+            for (l, zc) in row.iter().zip(&z[..i]) {
+                s -= l * zc;
             }
             z[i] = s;
         }
         for i in (0..n).rev() {
+            let row = &self.lu[i * n + i + 1..(i + 1) * n];
             let mut s = z[i];
-            for c in i + 1..n {
-                s -= self.lu[i * n + c] * z[c];
+            for (u, zc) in row.iter().zip(&z[i + 1..]) {
+                s -= u * zc;
             }
             z[i] = s / self.lu[i * n + i];
         }
@@ -269,11 +260,9 @@ enum Bottom {
 /// Jacobi sweeps on a stalled coarsest level.
 const BOTTOM_SWEEPS: usize = 8;
 
-/// Inverse diagonal, with a zero or non-finite pivot an error.
-fn inverse_diagonal(a: &CsrMatrix) -> Result<Vec<f64>, SolveError> {
+/// Inverse diagonal, with a zero or non-finite pivot an error (the first such row: sequential).
+pub(super) fn inverse_diagonal(a: &CsrMatrix) -> Result<Vec<f64>, SolveError> {
     (0..a.n())
-        .into_par_iter()
-        .with_min_len(ROW_CHUNK)
         .map(|i| {
             let d = a.val[a.diag[i]];
             if d == 0.0 || !d.is_finite() {

@@ -44,21 +44,8 @@ impl CsrMatrix {
                     .expect("diagonal inserted")
             })
             .collect();
-        let mut row_ptr = Vec::with_capacity(rows.len() + 1);
-        row_ptr.push(0);
-        for r in &rows {
-            row_ptr.push(row_ptr.last().expect("non-empty") + r.len());
-        }
+        let (row_ptr, col, val) = flatten_rows(&rows);
         let diag = diag_at.iter().zip(&row_ptr).map(|(d, s)| d + s).collect();
-        // Order-preserving parallel collects.
-        let col = rows
-            .par_iter()
-            .flat_map_iter(|r| r.iter().map(|e| e.0))
-            .collect();
-        let val = rows
-            .par_iter()
-            .flat_map_iter(|r| r.iter().map(|e| e.1))
-            .collect();
         Self {
             row_ptr,
             col,
@@ -106,4 +93,23 @@ impl CsrMatrix {
     pub fn diagonal(&self) -> Vec<f64> {
         self.diag.iter().map(|&d| self.val[d]).collect()
     }
+}
+
+/// Row pointers, columns and values of per-row (column, value) lists, in row order (the
+/// columns and values collected in parallel, order preserved).
+pub(super) fn flatten_rows(rows: &[Vec<(u32, f64)>]) -> (Vec<usize>, Vec<u32>, Vec<f64>) {
+    let mut row_ptr = Vec::with_capacity(rows.len() + 1);
+    row_ptr.push(0);
+    for r in rows {
+        row_ptr.push(row_ptr.last().expect("non-empty") + r.len());
+    }
+    let col = rows
+        .par_iter()
+        .flat_map_iter(|r| r.iter().map(|e| e.0))
+        .collect();
+    let val = rows
+        .par_iter()
+        .flat_map_iter(|r| r.iter().map(|e| e.1))
+        .collect();
+    (row_ptr, col, val)
 }

@@ -102,18 +102,7 @@ impl Factor {
     /// Set up the preconditioner of `a`.
     pub fn new(a: &CsrMatrix, kind: Preconditioner) -> Result<Self, SolveError> {
         let n = a.n();
-        let inv_diag = |a: &CsrMatrix| -> Result<Vec<f64>, SolveError> {
-            (0..n)
-                .map(|i| {
-                    let d = a.val[a.diag[i]];
-                    if d == 0.0 || !d.is_finite() {
-                        Err(SolveError::ZeroPivot { row: i })
-                    } else {
-                        Ok(1.0 / d)
-                    }
-                })
-                .collect()
-        };
+        let inv_diag = inverse_diagonal;
         match kind {
             Preconditioner::Jacobi => Ok(Factor::Jacobi(inv_diag(a)?)),
             Preconditioner::Ssor => Ok(Factor::Ssor(inv_diag(a)?)),
