@@ -137,7 +137,7 @@ fn main() {
 
 fn run(dump: Option<&str>) {
     let mut cases = Vec::new();
-    for (r_over_dr, label) in [(20.3, "1.3k"), (39.9, "5k"), (79.8, "20k")] {
+    for (r_over_dr, label) in [(20.3, "1.3k"), (39.9, "5k"), (79.8, "20k"), (159.6, "80k")] {
         for jitter in [0.0, 0.15] {
             let dr = 1.0;
             let radius = r_over_dr * dr;
@@ -176,9 +176,9 @@ fn run(dump: Option<&str>) {
         });
     }
     println!(
-        "| case | N | nnz/row | Jacobi | Jacobi warm | SSOR | ILU(0) | ILU(0) warm | assembly |"
+        "| case | N | nnz/row | Jacobi | Jacobi warm | SSOR | ILU(0) | ILU(0) warm | AMG | AMG warm | assembly |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
     for c in &cases {
         let k = QuinticSpline::new(1.3 * c.set.dr);
         let b1 = rhs(&c.set, &k, 1, 1.0);
@@ -196,6 +196,28 @@ fn run(dump: Option<&str>) {
             write_system(&format!("{dir}/{name}_2.bin"), &s2);
         }
         let n = c.set.n_fluid;
+        {
+            let t = Instant::now();
+            let amg = Amg::new(&s2.matrix).unwrap();
+            let ts = t.elapsed().as_secs_f64() * 1e3;
+            let mut z = vec![0.0; n];
+            let t = Instant::now();
+            for _ in 0..10 {
+                amg.apply(&s2.matrix, &s2.rhs, &mut z);
+            }
+            let tc = t.elapsed().as_secs_f64() * 1e2;
+            let t = Instant::now();
+            for _ in 0..10 {
+                s2.matrix.matvec(&s2.rhs, &mut z);
+            }
+            let tm = t.elapsed().as_secs_f64() * 1e2;
+            eprintln!(
+                "{}: sizes {:?} nnz {:?} setup {ts:.2} ms cycle {tc:.2} ms matvec {tm:.2} ms",
+                c.name,
+                amg.sizes(&s2.matrix),
+                amg.nnz(&s2.matrix)
+            );
+        }
         let mut cells = Vec::new();
         for (pc, warm) in [
             (Preconditioner::Jacobi, false),
@@ -203,6 +225,8 @@ fn run(dump: Option<&str>) {
             (Preconditioner::Ssor, false),
             (Preconditioner::Ilu0, false),
             (Preconditioner::Ilu0, true),
+            (Preconditioner::Amg, false),
+            (Preconditioner::Amg, true),
         ] {
             let opts = SolverOptions {
                 preconditioner: pc,

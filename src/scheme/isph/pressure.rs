@@ -3,7 +3,8 @@
 //! (20) of u*), with a density-invariant source, the free-surface rows of
 //! [`super::free_surface`], the virtual particles Neumann with the hydrostatic offset
 //! (`Isph::pressure_offsets`) and the inlet's held particles Neumann where free fluid sees them;
-//! solved by BiCGStab + ILU(0) warm started from p^n ([`super::ppe`]).
+//! solved by BiCGStab warm started from p^n, preconditioned by ILU(0) or, from
+//! [`ppe::AMG_MIN_ROWS`] particles, algebraic multigrid ([`super::ppe`]).
 //!
 //! **Density-invariant PPE source** on the particles with a full kernel support (neither on
 //! the free surface nor next to it): `b_i += alpha rho (C0 - C_i) / (C0 dt^2)` with the
@@ -177,7 +178,11 @@ where
         } else {
             vec![0.0; n]
         };
-        let stats = ppe::solve(&sys, &mut pres, &self.solver)
+        let opts = ppe::SolverOptions {
+            preconditioner: ppe::Preconditioner::for_pressure(n),
+            ..self.solver
+        };
+        let stats = ppe::solve(&sys, &mut pres, &opts)
             .map_err(|e| format!("pressure Poisson equation: {e}"))?;
         books.iterations[0] = stats.iterations as u64;
         books.pressure_time += t0.elapsed().as_secs_f64();

@@ -16,38 +16,36 @@ pub struct CsrMatrix {
 
 impl CsrMatrix {
     /// Build from per-row (column, value) lists; duplicate columns are summed in list order and
-    /// a zero diagonal is inserted where missing.
-    pub fn from_rows(rows: Vec<Vec<(u32, f64)>>) -> Self {
-        let n = rows.len();
-        let mut row_ptr = Vec::with_capacity(n + 1);
-        // Sized once: growing by doubling cost a third of this function in page faults
-        // (profile of the ISPH drop, docs/benchmarks.md).
-        let cap = rows.iter().map(|r| r.len() + 1).sum();
-        let mut col = Vec::with_capacity(cap);
-        let mut val = Vec::with_capacity(cap);
-        let mut diag = Vec::with_capacity(n);
-        row_ptr.push(0);
-        for (i, mut r) in rows.into_iter().enumerate() {
-            r.push((i as u32, 0.0));
-            // Stable: duplicates keep their order, so their sum is in a fixed order.
-            r.sort_by_key(|e| e.0);
-            let mut d = usize::MAX;
-            for (c, v) in r {
-                if col.len() > *row_ptr.last().expect("non-empty")
-                    && *col.last().expect("non-empty") == c
-                {
-                    *val.last_mut().expect("non-empty") += v;
-                } else {
-                    if c as usize == i {
-                        d = col.len();
+    /// a zero diagonal is inserted where missing. Rows are sorted and merged in parallel, each
+    /// by itself, so the result does not depend on the thread count.
+    pub fn from_rows(mut rows: Vec<Vec<(u32, f64)>>) -> Self {
+        let diag_at: Vec<usize> = rows
+            .par_iter_mut()
+            .enumerate()
+            .with_min_len(ROW_CHUNK)
+            .map(|(i, r)| {
+                r.push((i as u32, 0.0));
+                // Stable: duplicates keep their order, so their sum is in a fixed order.
+                r.sort_by_key(|e| e.0);
+                let mut k = 0;
+                for m in 0..r.len() {
+                    if m > 0 && r[m].0 == r[k].0 {
+                        r[k].1 += r[m].1;
+                    } else {
+                        if m > 0 {
+                            k += 1;
+                        }
+                        r[k] = r[m];
                     }
-                    col.push(c);
-                    val.push(v);
                 }
-            }
-            diag.push(d);
-            row_ptr.push(col.len());
-        }
+                r.truncate(k + 1);
+                r.iter()
+                    .position(|e| e.0 as usize == i)
+                    .expect("diagonal inserted")
+            })
+            .collect();
+        let (row_ptr, col, val) = flatten_rows(&rows);
+        let diag = diag_at.iter().zip(&row_ptr).map(|(d, s)| d + s).collect();
         Self {
             row_ptr,
             col,
@@ -95,4 +93,23 @@ impl CsrMatrix {
     pub fn diagonal(&self) -> Vec<f64> {
         self.diag.iter().map(|&d| self.val[d]).collect()
     }
+}
+
+/// Row pointers, columns and values of per-row (column, value) lists, in row order (the
+/// columns and values collected in parallel, order preserved).
+pub(super) fn flatten_rows(rows: &[Vec<(u32, f64)>]) -> (Vec<usize>, Vec<u32>, Vec<f64>) {
+    let mut row_ptr = Vec::with_capacity(rows.len() + 1);
+    row_ptr.push(0);
+    for r in rows {
+        row_ptr.push(row_ptr.last().expect("non-empty") + r.len());
+    }
+    let col = rows
+        .par_iter()
+        .flat_map_iter(|r| r.iter().map(|e| e.0))
+        .collect();
+    let val = rows
+        .par_iter()
+        .flat_map_iter(|r| r.iter().map(|e| e.1))
+        .collect();
+    (row_ptr, col, val)
 }

@@ -1,4 +1,5 @@
-//! BiCGStab with Jacobi, SSOR or ILU(0) preconditioning, with sums in a fixed order.
+//! BiCGStab with Jacobi, SSOR, ILU(0) or algebraic multigrid preconditioning, with sums in a
+//! fixed order.
 
 use super::*;
 
@@ -11,6 +12,21 @@ pub enum Preconditioner {
     Ssor,
     /// Incomplete LU factorisation with the matrix's own sparsity pattern.
     Ilu0,
+    /// One V-cycle of smoothed-aggregation algebraic multigrid ([`Amg`]).
+    Amg,
+}
+
+impl Preconditioner {
+    /// The preconditioner of a pressure Poisson system of `rows` rows: [`Preconditioner::Amg`]
+    /// from [`AMG_MIN_ROWS`] rows, where its flat iteration count outweighs its set-up (module
+    /// documentation of [`Amg`], measured), ILU(0) below.
+    pub fn for_pressure(rows: usize) -> Self {
+        if rows >= AMG_MIN_ROWS {
+            Preconditioner::Amg
+        } else {
+            Preconditioner::Ilu0
+        }
+    }
 }
 
 impl Default for Preconditioner {
@@ -78,27 +94,19 @@ pub enum Factor {
     /// ILU(0) factors in the matrix's pattern: strict lower part holds L (unit diagonal), the
     /// rest U.
     Ilu0(Vec<f64>),
+    /// The multigrid hierarchy.
+    Amg(Box<Amg>),
 }
 
 impl Factor {
     /// Set up the preconditioner of `a`.
     pub fn new(a: &CsrMatrix, kind: Preconditioner) -> Result<Self, SolveError> {
         let n = a.n();
-        let inv_diag = |a: &CsrMatrix| -> Result<Vec<f64>, SolveError> {
-            (0..n)
-                .map(|i| {
-                    let d = a.val[a.diag[i]];
-                    if d == 0.0 || !d.is_finite() {
-                        Err(SolveError::ZeroPivot { row: i })
-                    } else {
-                        Ok(1.0 / d)
-                    }
-                })
-                .collect()
-        };
+        let inv_diag = inverse_diagonal;
         match kind {
             Preconditioner::Jacobi => Ok(Factor::Jacobi(inv_diag(a)?)),
             Preconditioner::Ssor => Ok(Factor::Ssor(inv_diag(a)?)),
+            Preconditioner::Amg => Ok(Factor::Amg(Box::new(Amg::new(a)?))),
             Preconditioner::Ilu0 => {
                 // IKJ variant (Saad 2003, Algorithm 10.4), sequential in row order, with the
                 // current row scattered into a dense work row `w` indexed by column. The updates
@@ -175,6 +183,7 @@ impl Factor {
                     z[i] -= s * dinv[i];
                 }
             }
+            Factor::Amg(m) => m.apply(a, r, z),
             Factor::Ilu0(lu) => {
                 // L z' = r then U z = z', each row a sequential sum in column order; slices per
                 // row so the inner loops index only `z`.

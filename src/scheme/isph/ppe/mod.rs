@@ -39,10 +39,19 @@
 //! iteration cap, a breakdown of rho or omega, a zero pivot, a non-finite value. A wrong pressure
 //! is never returned silently.
 //!
-//! Determinism: the matrix-vector product is row-parallel (each row a sequential sum in column
+//!Determinism: the matrix-vector product is row-parallel (each row a sequential sum in column
 //! order); every dot product and norm is summed in fixed chunks of [`DOT_CHUNK`] entries whose
-//! partial sums are added sequentially; the preconditioners' triangular solves are sequential.
-//! Results are bitwise identical whatever the rayon thread count.
+//! partial sums are added sequentially (chunk size independent of the thread count); the
+//! assembly gathers each row by itself, in parallel, and [`CsrMatrix::from_rows`] sorts and
+//! merges each row by itself; SSOR's and ILU(0)'s triangular solves are sequential; the
+//! multigrid cycle ([`Amg`]) is row-parallel throughout. Results are bitwise identical
+//! whatever the rayon thread count.
+//!
+//! The pressure takes [`Preconditioner::for_pressure`]: ILU(0) below [`AMG_MIN_ROWS`] rows,
+//! smoothed-aggregation AMG from there (its iterations stay at 5-9 where ILU(0)'s grow from 8
+//! to 58 between 1,300 and 80,000 rows in cold solves; [`Amg`]'s documentation has the measurements). The
+//! viscous systems keep ILU(0) (the default [`Preconditioner`]): they converge in 2-3
+//! iterations, where AMG's set-up does not pay.
 //!
 //! # Measured (`cargo run --release --example ppe_bench`, 2-core VM, 2 threads)
 //! Disc of particles on a square lattice (and the same lattice displaced by up to +/-0.15 dr),
@@ -80,10 +89,12 @@ use crate::neighbors::{Domain, NeighborList};
 use rayon::prelude::*;
 use thiserror::Error;
 
+mod amg;
 mod csr;
 mod krylov;
 mod viscous;
 
+pub use amg::*;
 pub use csr::*;
 pub use krylov::*;
 pub use viscous::*;
@@ -297,9 +308,9 @@ pub fn assemble_poisson_surface(
             })
             .expect("n_fluid > 0");
         // p_a = 0: its column drops out of the other rows (times 0), keeping the symmetry.
-        for r in rows.iter_mut() {
-            r.retain(|e| e.0 as usize != a);
-        }
+        rows.par_iter_mut()
+            .with_min_len(ROW_CHUNK)
+            .for_each(|r| r.retain(|e| e.0 as usize != a));
         rows[a] = vec![(a as u32, 1.0)];
         rhs[a] = 0.0;
         anchor = Some(a);

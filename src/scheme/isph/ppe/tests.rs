@@ -28,11 +28,12 @@ fn laplacian(nl: &NeighborList, c: &[f64], phi: &dyn Fn(usize) -> f64, i: usize)
         .sum()
 }
 
-fn all_options() -> [SolverOptions; 3] {
+fn all_options() -> [SolverOptions; 4] {
     [
         Preconditioner::Jacobi,
         Preconditioner::Ssor,
         Preconditioner::Ilu0,
+        Preconditioner::Amg,
     ]
     .map(|p| SolverOptions {
         preconditioner: p,
