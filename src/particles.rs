@@ -9,7 +9,11 @@ const COPY_CHUNK: usize = 4096;
 
 /// `dst.copy_from_slice(src)` on all threads (a copy does not depend on the order it runs in).
 pub fn copy_par<T: Copy + Send + Sync>(dst: &mut [T], src: &[T]) {
-    assert_eq!(dst.len(), src.len());
+    // One task's worth: a plain copy, without handing it to the pool.
+    if src.len() <= COPY_CHUNK {
+        dst.copy_from_slice(src);
+        return;
+    }
     dst.par_chunks_mut(COPY_CHUNK)
         .zip(src.par_chunks(COPY_CHUNK))
         .for_each(|(d, s)| d.copy_from_slice(s));
@@ -18,7 +22,11 @@ pub fn copy_par<T: Copy + Send + Sync>(dst: &mut [T], src: &[T]) {
 /// `dst` becomes a copy of `src` on all threads, its allocation kept (no new vector per step).
 pub fn assign_par<T: Copy + Send + Sync>(dst: &mut Vec<T>, src: &[T]) {
     dst.clear();
-    dst.par_extend(src.par_iter().with_min_len(COPY_CHUNK).copied());
+    if src.len() <= COPY_CHUNK {
+        dst.extend_from_slice(src);
+    } else {
+        dst.par_extend(src.par_iter().with_min_len(COPY_CHUNK).copied());
+    }
 }
 
 /// The fluid particles in N space dimensions: everything the time integration evolves. `Fluid`

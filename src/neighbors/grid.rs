@@ -210,6 +210,23 @@ fn counting_sort(cells: &[u32], total: usize) -> (Vec<u32>, Vec<u32>) {
         .min(n.div_ceil(SORT_MIN))
         .min(4 * n / total.max(1))
         .max(1);
+    if runs == 1 {
+        // One run: the plain counting sort, without the pool.
+        let mut start = vec![0u32; total + 1];
+        for &c in cells {
+            start[c as usize + 1] += 1;
+        }
+        for c in 0..total {
+            start[c + 1] += start[c];
+        }
+        let mut next = start.clone();
+        let mut sorted = vec![0u32; n];
+        for (i, &c) in cells.iter().enumerate() {
+            sorted[next[c as usize] as usize] = i as u32;
+            next[c as usize] += 1;
+        }
+        return (start, sorted);
+    }
     let run_len = n.div_ceil(runs).max(1);
     let mut hist: Vec<Vec<u32>> = cells
         .par_chunks(run_len)

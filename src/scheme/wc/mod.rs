@@ -443,8 +443,10 @@ where
                 .enumerate()
                 .for_each(|(k, a)| *a = art.of_particle(&vsig[k], rho0, &vhess[k]));
         }
-        let report = Const::<N>::pass2(self, fl);
-        self.prof.lap(t, "pass 2", false);
+        Const::<N>::pass2(self, fl);
+        let t = self.prof.lap(t, "pass 2", false);
+        let report = self.stage_report(fl.mass);
+        self.prof.lap(t, "rates: wall force sum, max |a|", true);
         report
     }
 
