@@ -226,9 +226,10 @@ impl<K: Kernel> Boundary for GhostWall<K> {
 /// plate line), and the part of its velocity (relative to the wall) that runs into the wall
 /// along the normal there is removed (an inelastic contact). Returns the momentum the wall gave
 /// the fluid this way \[kg m/s per m\] and the number of particles put back; `each(i, m)` is told
-/// the momentum m particle i received. Sequential, in
-/// particle order, so the sum is the same on any number of threads. Used by Fang's scheme (see
-/// [`crate::scheme::wcsph`]) and the incompressible one.
+/// the momentum m particle i received. The particles inside are found on all threads (rarely
+/// any: the test is the work); those are then put back one by one in particle order, so the sum
+/// is the same on any number of threads. Used by Fang's scheme (see [`crate::scheme::wcsph`])
+/// and the incompressible one.
 pub fn keep_out_of_wall<const N: usize>(
     fl: &mut Fluid<N>,
     wall: &Wall<N>,
@@ -237,19 +238,24 @@ pub fn keep_out_of_wall<const N: usize>(
     let mut momentum = Vector::zeros();
     let mut count = 0;
     let uw = wall.wall_velocity();
-    for (i, (x, v)) in fl.x.iter_mut().zip(fl.v.iter_mut()).enumerate() {
-        let d = wall.signed_distance(x);
-        if d < 0.0 {
-            let n = wall.normal(x);
-            *x = wall.reflect(x);
-            let vn = v.dot(&n) - uw.dot(&n);
-            if vn < 0.0 {
-                *v -= n * vn;
-                momentum -= n * (vn * fl.mass);
-                each(i, -n * (vn * fl.mass));
-            }
-            count += 1;
+    let inside: Vec<usize> =
+        fl.x.par_iter()
+            .with_min_len(1024)
+            .enumerate()
+            .filter(|(_, x)| wall.signed_distance(x) < 0.0)
+            .map(|(i, _)| i)
+            .collect();
+    for i in inside {
+        let (x, v) = (&mut fl.x[i], &mut fl.v[i]);
+        let n = wall.normal(x);
+        *x = wall.reflect(x);
+        let vn = v.dot(&n) - uw.dot(&n);
+        if vn < 0.0 {
+            *v -= n * vn;
+            momentum -= n * (vn * fl.mass);
+            each(i, -n * (vn * fl.mass));
         }
+        count += 1;
     }
     (momentum, count)
 }

@@ -16,6 +16,7 @@
 use crate::dim::Vector;
 use crate::geometry::HalfPlane;
 use crate::Vec2;
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// What moves a wall: nothing, a given function of time, or an input of the running
@@ -224,12 +225,21 @@ impl<const N: usize> Plate<N> {
     /// Grow the column range to cover the points `x` with `margin` to spare at both ends
     /// (nothing without points).
     pub fn cover_points(&mut self, x: &[Vector<N>], margin: f64) {
+        // On all threads: a minimum and a maximum do not depend on the order.
         let (lo, hi) = x
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
-                let s = self.s(p);
-                (lo.min(s), hi.max(s))
-            });
+            .par_iter()
+            .with_min_len(4096)
+            .fold(
+                || (f64::INFINITY, f64::NEG_INFINITY),
+                |(lo, hi), p| {
+                    let s = self.s(p);
+                    (lo.min(s), hi.max(s))
+                },
+            )
+            .reduce(
+                || (f64::INFINITY, f64::NEG_INFINITY),
+                |a, b| (a.0.min(b.0), a.1.max(b.1)),
+            );
         if lo.is_finite() {
             self.cover(lo - margin, hi + margin);
         }

@@ -106,22 +106,12 @@ impl<const N: usize> Grid<N> {
             }
         }
         let total: usize = grid.cells.iter().product();
-        let cells: Vec<u32> = points.par_iter().map(|p| grid.cell_of(p) as u32).collect();
-        let mut count = vec![0u32; total + 1];
-        for &c in &cells {
-            count[c as usize + 1] += 1;
-        }
-        for c in 0..total {
-            count[c + 1] += count[c];
-        }
-        let mut fill = count.clone();
-        let mut sorted = vec![0u32; points.len()];
-        for (i, &c) in cells.iter().enumerate() {
-            sorted[fill[c as usize] as usize] = i as u32;
-            fill[c as usize] += 1;
-        }
-        grid.cell_start = count;
-        grid.sorted = sorted;
+        let cells: Vec<u32> = points
+            .par_iter()
+            .with_min_len(SORT_MIN)
+            .map(|p| grid.cell_of(p) as u32)
+            .collect();
+        (grid.cell_start, grid.sorted) = counting_sort(&cells, total);
         grid
     }
 
@@ -202,6 +192,117 @@ impl<const N: usize> Grid<N> {
     }
 }
 
+/// Points per parallel task of the grid's fill, and cells per task of its scans.
+const SORT_MIN: usize = 4096;
+
+/// The stable counting sort of the points 0..n by their cell `cells[i]` (< `total`): the
+/// cell starts (`total + 1` entries) and the point indices ordered by cell, ascending within a
+/// cell. On all threads: the points in runs, each run counting its own histogram; per cell the
+/// runs' counts are scanned in run order (cells in blocks, in parallel) into each run's first
+/// slot in the cell; each run then places its points from there. The slots do not depend on
+/// how many runs there are, so neither does the result.
+fn counting_sort(cells: &[u32], total: usize) -> (Vec<u32>, Vec<u32>) {
+    use std::sync::atomic::{AtomicU32, Ordering};
+    let n = cells.len();
+    // Each run zeroes and scans a histogram over every cell: no more runs than keep that work
+    // within a few times the points'.
+    let runs = (2 * rayon::current_num_threads())
+        .min(n.div_ceil(SORT_MIN))
+        .min(4 * n / total.max(1))
+        .max(1);
+    if runs == 1 {
+        // One run: the plain counting sort, without the pool.
+        let mut start = vec![0u32; total + 1];
+        for &c in cells {
+            start[c as usize + 1] += 1;
+        }
+        for c in 0..total {
+            start[c + 1] += start[c];
+        }
+        let mut next = start.clone();
+        let mut sorted = vec![0u32; n];
+        for (i, &c) in cells.iter().enumerate() {
+            sorted[next[c as usize] as usize] = i as u32;
+            next[c as usize] += 1;
+        }
+        return (start, sorted);
+    }
+    let run_len = n.div_ceil(runs).max(1);
+    let mut hist: Vec<Vec<u32>> = cells
+        .par_chunks(run_len)
+        .map(|run| {
+            let mut h = vec![0u32; total];
+            for &c in run {
+                h[c as usize] += 1;
+            }
+            h
+        })
+        .collect();
+    // Per block of cells, the block's count; then each block's first slot (a scan over the
+    // blocks), then per cell its start and each run's first slot.
+    let block = SORT_MIN.max(total.div_ceil(8 * rayon::current_num_threads()));
+    let block_sums: Vec<u32> = (0..total.div_ceil(block))
+        .into_par_iter()
+        .map(|b| {
+            let range = b * block..((b + 1) * block).min(total);
+            hist.iter()
+                .map(|h| h[range.clone()].iter().sum::<u32>())
+                .sum()
+        })
+        .collect();
+    let mut block_start = Vec::with_capacity(block_sums.len());
+    let mut at = 0u32;
+    for s in &block_sums {
+        block_start.push(at);
+        at += s;
+    }
+    // The runs' histograms cut into the blocks of cells, block by block.
+    let mut per_block: Vec<Vec<&mut [u32]>> = (0..block_sums.len())
+        .map(|_| Vec::with_capacity(runs))
+        .collect();
+    for h in hist.iter_mut() {
+        for (b, piece) in h.chunks_mut(block).enumerate() {
+            per_block[b].push(piece);
+        }
+    }
+    let mut start = vec![0u32; total + 1];
+    start[..total]
+        .par_chunks_mut(block)
+        .zip(per_block.into_par_iter().zip(block_start.par_iter()))
+        .for_each(|(starts, (mut pieces, &first))| {
+            let mut at = first;
+            for (c, s) in starts.iter_mut().enumerate() {
+                *s = at;
+                for piece in pieces.iter_mut() {
+                    let k = piece[c];
+                    piece[c] = at;
+                    at += k;
+                }
+            }
+        });
+    start[total] = n as u32;
+    let mut sorted = vec![0u32; n];
+    {
+        // SAFETY: AtomicU32 has the size, alignment and bit validity of u32, and `sorted` is
+        // borrowed exclusively while the atomic view lives. Every slot is written once (the
+        // runs' slots are disjoint), so the order of the stores does not matter.
+        let slots: &[AtomicU32] =
+            unsafe { &*(sorted.as_mut_slice() as *mut [u32] as *const [AtomicU32]) };
+        cells
+            .par_chunks(run_len)
+            .zip(hist.par_iter_mut())
+            .enumerate()
+            .for_each(|(r, (run, next))| {
+                for (k, &c) in run.iter().enumerate() {
+                    let slot = &mut next[c as usize];
+                    slots[*slot as usize].store((r * run_len + k) as u32, Ordering::Relaxed);
+                    *slot += 1;
+                }
+            });
+    }
+    (start, sorted)
+}
+
 /// Compressed neighbour lists: `neighbors(i)` are the indices within `radius` of query point i,
 /// ascending.
 #[derive(Debug, Clone, Default)]
@@ -212,7 +313,10 @@ pub struct NeighborList {
     points: usize,
 }
 
-/// For each chunk of query points (in order), the number of points within `radius` of each
+/// Query points per parallel task of the list build.
+const CHUNK: usize = 512;
+
+/// For each chunk of [`CHUNK`] query points (in order), the number of points within `radius` of each
 /// query and their indices, ascending per query; `delta(p, q)` is x_p - x_q.
 fn candidates_within<const N: usize>(
     grid: &Grid<N>,
@@ -222,7 +326,6 @@ fn candidates_within<const N: usize>(
     delta: impl Fn(&Vector<N>, &Vector<N>) -> Vector<N> + Sync,
 ) -> Vec<(Vec<u32>, Vec<u32>)> {
     let r2 = radius * radius;
-    const CHUNK: usize = 512;
     queries
         .par_chunks(CHUNK)
         .map(|chunk| {
@@ -263,17 +366,35 @@ impl NeighborList {
         } else {
             candidates_within(grid, points, queries, radius, |p, q| p - q)
         };
-        let mut start = Vec::with_capacity(queries.len() + 1);
-        start.push(0u32);
-        let total: usize = parts.iter().map(|p| p.1.len()).sum();
-        let mut idx = Vec::with_capacity(total);
-        for (counts, part) in parts {
-            for c in counts {
-                let last = *start.last().expect("non-empty");
-                start.push(last + c);
-            }
-            idx.extend_from_slice(&part);
+        // Concatenated in parallel: each chunk's pairs go to their offset (a scan over the
+        // chunks' totals) and its starts count on from there.
+        let mut offsets = Vec::with_capacity(parts.len());
+        let mut total = 0usize;
+        for (_, part) in &parts {
+            offsets.push(total as u32);
+            total += part.len();
         }
+        let mut idx = vec![0u32; total];
+        let mut pieces = Vec::with_capacity(parts.len());
+        let mut rest = idx.as_mut_slice();
+        for (_, part) in &parts {
+            let (head, tail) = rest.split_at_mut(part.len());
+            pieces.push(head);
+            rest = tail;
+        }
+        let mut start = vec![0u32; queries.len() + 1];
+        start[1..]
+            .par_chunks_mut(CHUNK)
+            .zip(parts.par_iter().zip(offsets.par_iter()))
+            .zip(pieces.into_par_iter())
+            .for_each(|((starts, ((counts, part), &offset)), piece)| {
+                let mut at = offset;
+                for (s, &c) in starts.iter_mut().zip(counts) {
+                    at += c;
+                    *s = at;
+                }
+                piece.copy_from_slice(part);
+            });
         Self {
             start,
             idx,
@@ -441,6 +562,40 @@ mod tests {
     fn a_period_along_a_missing_axis_is_refused() {
         let pts = vec![Vec2::zeros()];
         CellGrid::build(&pts, 0.1, &Domain::OPEN.with_period(2, 1.0));
+    }
+
+    /// The parallel counting sort gives the stable sort by cell (ascending index within a
+    /// cell), whatever the threads, for few and many cells per point.
+    #[test]
+    fn counting_sort_is_the_stable_sort_by_cell() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(13);
+        for (n, total) in [
+            (0usize, 1usize),
+            (5, 3),
+            (20_000, 7),
+            (50_000, 30_000),
+            (9_000, 200_000),
+        ] {
+            let cells: Vec<u32> = (0..n).map(|_| rng.gen_range(0..total as u32)).collect();
+            let mut want: Vec<u32> = (0..n as u32).collect();
+            want.sort_by_key(|&i| cells[i as usize]);
+            let mut want_start = vec![0u32; total + 1];
+            for &c in &cells {
+                want_start[c as usize + 1] += 1;
+            }
+            for c in 0..total {
+                want_start[c + 1] += want_start[c];
+            }
+            for threads in [1, 2, 5] {
+                let got = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap()
+                    .install(|| counting_sort(&cells, total));
+                assert_eq!(got.0, want_start, "{n} {total} {threads}");
+                assert_eq!(got.1, want, "{n} {total} {threads}");
+            }
+        }
     }
 
     #[test]

@@ -168,7 +168,11 @@ pub fn fluid_void_fraction(fl: &Fluid, plate: Option<&Plate>, walls: &[Wall], dx
             .with_min_len(MIN_TASK_LIGHT)
             .map(|x| (pl.s(x), pl.d(x)))
             .collect(),
-        None => x.iter().map(|x| (x.x, x.y)).collect(),
+        None => x
+            .par_iter()
+            .with_min_len(MIN_TASK_LIGHT)
+            .map(|x| (x.x, x.y))
+            .collect(),
     };
     crate::health::void_fraction(&pts, 2.0 * dx, plate.is_some())
 }

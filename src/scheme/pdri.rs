@@ -104,7 +104,7 @@ where
             let end = list.partition_point(|&j| (j as usize) < nf);
             mls_density(&c.kernel, &c.p.domain, fluid, &list[..end], i)
         }));
-        fl.rho.copy_from_slice(&self.rho_new);
+        crate::particles::copy_par(&mut fl.rho, &self.rho_new);
     }
 }
 
@@ -167,8 +167,11 @@ where
         let start = c.prof.start();
         c.refresh_neighbors(&st.fluid.x, &mut st.walls);
         let r0 = c.rates(&st.fluid, &st.walls);
+        let t = c.prof.start();
         let per_wall0 = c.wall_on_fluid_per_wall(r0.wall_on_fluid, st.fluid.mass);
+        let t = c.prof.lap(t, "wall forces per wall", true);
         let load0 = st.plate.map(|k| c.wall_on_particles(k, st.fluid.mass));
+        let t = c.prof.lap(t, "wall forces and plate load", false);
         let factor = c.p.dt_factor.min(REN_DT_FACTOR);
         let dt_stable = c.stable_dt(&st.fluid, &r0, factor, false); // eq. (25c)
         let dt = dt_stable.min(max_dt);
@@ -177,12 +180,15 @@ where
         }
         // Predictor, eq. (25a): X~^{n+1} = X^n + dt G(X^n); and the corrector's first half,
         // X^n + dt/2 G(X^n), while G(X^n) is at hand.
+        let t = c.prof.lap(t, "time step", false);
         let fl = &st.fluid;
         c.update(&mut self.pred, fl, &fl.v, &fl.conf, dt);
         c.update(&mut self.first, fl, &fl.v, &fl.conf, 0.5 * dt);
+        c.prof.lap(t, "update", false);
         c.refresh_neighbors(&self.pred.x, &mut st.walls);
         let r1 = c.rates(&self.pred, &st.walls);
         // Corrector, eq. (25b): X^{n+1} = (X^n + dt/2 G(X^n)) + dt/2 G(X~^{n+1}).
+        let t = c.prof.start();
         c.update(
             &mut self.next,
             &self.first,
@@ -191,37 +197,47 @@ where
             0.5 * dt,
         );
         std::mem::swap(&mut st.fluid, &mut self.next);
+        let t = c.prof.lap(t, "update", false);
         // The fluid's velocity moved by dt/2 (a^n + a~^{n+1}), so the wall force that balances its
         // momentum is the same average of the two evaluations.
         let on_fluid = (r0.wall_on_fluid + r1.wall_on_fluid) * 0.5;
         st.wall_force = -on_fluid;
         st.wall_impulse += -on_fluid * dt;
-        let per_wall1 = self
-            .core
-            .wall_on_fluid_per_wall(r1.wall_on_fluid, st.fluid.mass);
+        let per_wall1 = c.wall_on_fluid_per_wall(r1.wall_on_fluid, st.fluid.mass);
         let per_wall = per_wall0
             .iter()
             .zip(&per_wall1)
             .map(|(a, b)| -(a + b) * 0.5)
             .collect();
         st.book_wall_forces(per_wall, dt);
-        // The plate's load by particle: the same average of the two evaluations.
-        st.plate_load = match (load0, st.plate) {
+        let t = c.prof.lap(t, "wall forces per wall", true);
+        // The plate's load by particle: the same average of the two evaluations, into the
+        // state's kept vector.
+        match (load0, st.plate) {
             (Some(a), Some(k)) => {
-                let b = self.core.wall_on_particles(k, st.fluid.mass);
-                a.iter().zip(&b).map(|(a, b)| -(a + b) * 0.5).collect()
+                let b = c.wall_on_particles(k, st.fluid.mass);
+                st.plate_load.clear();
+                st.plate_load.par_extend(
+                    a.par_iter()
+                        .zip(b.par_iter())
+                        .with_min_len(1024)
+                        .map(|(a, b)| -(a + b) * 0.5),
+                );
             }
-            _ => Vec::new(),
-        };
+            _ => st.plate_load.clear(),
+        }
         st.last_dt = dt_stable;
-        let interval = self.core.p.reinit_interval;
+        c.prof.lap(t, "wall forces and plate load", false);
+        let interval = c.p.reinit_interval;
         if interval > 0 && (st.step + 1).is_multiple_of(interval) {
-            self.core.refresh_neighbors(&st.fluid.x, &mut st.walls);
+            c.refresh_neighbors(&st.fluid.x, &mut st.walls);
+            let t = c.prof.start();
             self.reinitialise_density(&mut st.fluid);
+            self.core.prof.lap(t, "density reinitialisation", false);
         }
         let t = self.core.prof.start();
         st.void_fraction = check_health::<R, _>(&self.core.p, st)?;
-        self.core.prof.lap(t, "health check", true);
+        self.core.prof.lap(t, "health check", false);
         self.core.prof.step(start);
         Ok(dt)
     }

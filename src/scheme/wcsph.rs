@@ -94,7 +94,7 @@ where
             return Err(format!("time step collapsed to {dt:e} s"));
         }
         // Predictor, eq. (49): X^{n+1/2} = X^n + F^n dt/2.
-        let t = c.prof.lap(t, "time step", true);
+        let t = c.prof.lap(t, "time step", false);
         let fl = &st.fluid;
         c.update(&mut self.half, fl, &fl.v, &fl.conf, 0.5 * dt);
         c.prof.lap(t, "update", false);
@@ -106,7 +106,10 @@ where
         std::mem::swap(&mut st.fluid, &mut self.next);
         let t = c.prof.lap(t, "update", false);
         let mut contact = Vector::zeros();
+        // Each wall's share summed over the particles in index order (a sum's rounding depends
+        // on its order): one thread, with more than one wall only.
         let mut per_wall = c.wall_on_fluid_per_wall(r1.wall_on_fluid, st.fluid.mass);
+        let t = c.prof.lap(t, "wall forces per wall", true);
         // The plate's load by particle: minus the corrector's force of its virtual particles
         // on each, and the momentum its contact gives a particle over the step.
         let plate = st.plate;
@@ -135,9 +138,9 @@ where
         st.wall_force = -r1.wall_on_fluid - contact / dt;
         st.wall_impulse += -r1.wall_on_fluid * dt - contact;
         st.last_dt = dt_stable;
-        let t = c.prof.lap(t, "wall forces and contact", true);
+        let t = c.prof.lap(t, "wall forces and contact", false);
         st.void_fraction = check_health::<R, _>(&c.p, st)?;
-        c.prof.lap(t, "health check", true);
+        c.prof.lap(t, "health check", false);
         c.prof.step(start);
         Ok(dt)
     }

@@ -255,14 +255,18 @@ where
             }
             taken += 1;
             let t_begin = self.profile.start();
-            let before = self.state.clone();
+            // The state before the step, into the last step's copy's allocations.
+            let mut before = last_before
+                .take()
+                .unwrap_or_else(|| State::new(Default::default(), Vec::new(), None));
+            copy_state(&mut self.state, &mut before);
             let max_dt = if d.exact {
                 t_end - self.state.time
             } else {
                 f64::INFINITY
             };
             <Const<N> as Space<N>>::before_step(d.scene, d.eff, &mut self.state);
-            let t = self.profile.lap(t_begin, "state copy, scene hook", true);
+            let t = self.profile.lap(t_begin, "state copy, scene hook", false);
             match self.scheme.step(&mut self.state, max_dt) {
                 Ok(dt) => {
                     self.profile.lap(t, "scheme step", false);
@@ -334,4 +338,28 @@ where
         let f = &self.state.fluid;
         f.v.iter().fold(Vector::zeros(), |s, v| s + v) * f.mass
     }
+}
+
+/// `dst` becomes a copy of `src` (which is left as it was): the per-particle arrays (fluid,
+/// plate load, pressure) copied on all threads into `dst`'s kept allocations, the rest (walls,
+/// scene data: a few hundred bytes) cloned.
+fn copy_state<const N: usize>(src: &mut State<N>, dst: &mut State<N>) {
+    use crate::particles::assign_par;
+    use std::mem::take;
+    let (fluid, load, pressure) = (
+        take(&mut src.fluid),
+        take(&mut src.plate_load),
+        take(&mut src.pressure),
+    );
+    let (mut f, mut l, mut p) = (
+        take(&mut dst.fluid),
+        take(&mut dst.plate_load),
+        take(&mut dst.pressure),
+    );
+    dst.clone_from(src);
+    f.assign_par(&fluid);
+    assign_par(&mut l, &load);
+    assign_par(&mut p, &pressure);
+    (src.fluid, src.plate_load, src.pressure) = (fluid, load, pressure);
+    (dst.fluid, dst.plate_load, dst.pressure) = (f, l, p);
 }

@@ -34,7 +34,7 @@ use crate::operators::artificial::{self, ArtificialStress};
 use crate::operators::kinematics::Kinematics;
 use crate::operators::pairs::PairCache;
 use crate::operators::stress::{self, MORRIS_ETA2};
-use crate::particles::Fluid;
+use crate::particles::{assign_par, copy_par, Fluid};
 use crate::profile::Profile;
 use crate::rheology::{self, Evss, Rheology};
 #[cfg(test)]
@@ -217,10 +217,16 @@ where
     pub fn wall_on_particles(&self, wall: usize, mass: f64) -> Vec<Vector<N>> {
         let nw = self.walls.len();
         if nw <= 1 {
-            return self.wall_acc.iter().map(|a| a * mass).collect();
+            return self
+                .wall_acc
+                .par_iter()
+                .with_min_len(MIN_TASK_LIGHT)
+                .map(|a| a * mass)
+                .collect();
         }
         self.wall_split
-            .chunks(nw)
+            .par_chunks(nw)
+            .with_min_len(MIN_TASK_LIGHT)
             .map(|chunk| chunk[wall] * mass)
             .collect()
     }
@@ -232,11 +238,17 @@ where
         out.clear();
         let nw = self.walls.len();
         if nw <= 1 {
-            out.extend(self.wall_acc.iter().map(|a| -(a * mass)));
+            out.par_extend(
+                self.wall_acc
+                    .par_iter()
+                    .with_min_len(MIN_TASK_LIGHT)
+                    .map(|a| -(a * mass)),
+            );
         } else {
-            out.extend(
+            out.par_extend(
                 self.wall_split
-                    .chunks(nw)
+                    .par_chunks(nw)
+                    .with_min_len(MIN_TASK_LIGHT)
                     .map(|chunk| -(chunk[wall] * mass)),
             );
         }
@@ -289,7 +301,7 @@ where
         }
         let t = self.prof.lap(t, "neighbours: wall particles", true);
         let grid = Grid::build(&self.all_x, radius, &dom);
-        let t = self.prof.lap(t, "neighbours: grid", true);
+        let t = self.prof.lap(t, "neighbours: grid", false);
         self.nlist = NeighborList::build(&grid, &self.all_x, x, radius, &dom);
         self.vlist = if self.art.needs_hessian() {
             NeighborList::build(&grid, &self.all_x, &self.all_x[nf..], radius, &dom)
@@ -297,14 +309,13 @@ where
             NeighborList::default()
         };
         let t = self.prof.lap(t, "neighbours: lists", false);
-        self.built_x = x.to_vec();
+        assign_par(&mut self.built_x, x);
         self.built_walls = plates.iter().map(|p| p.displacement()).collect();
         let n = self.all_x.len();
         let rho0 = self.p.eos.rho0;
         self.all_v.resize(n, Vector::zeros());
         self.all_rho.resize(n, rho0);
         self.all_rho[nf..].fill(rho0);
-        self.all_vol.clear();
         self.all_sigma.resize(n, Tensor::zeros());
         self.all_art.resize(n, Tensor::zeros());
         self.all_hess.resize(n, Tensor::zeros());
@@ -316,7 +327,7 @@ where
             .viscous_viscosity(self.model.solvent_viscosity(&Tensor::<N>::zeros()));
         self.all_mu.resize(n, mu);
         self.all_mu[nf..].fill(mu);
-        self.prof.lap(t, "neighbours: work arrays", true);
+        self.prof.lap(t, "neighbours: work arrays", false);
     }
 
     /// Fluid neighbours (and virtual ones, index >= number of fluid particles) of fluid particle
@@ -360,7 +371,7 @@ where
     pub fn rates(&mut self, fl: &Fluid<N>, plates: &[Wall<N>]) -> StageReport<N> {
         let nf = fl.len();
         let t = self.prof.start();
-        self.all_x[..nf].copy_from_slice(&fl.x);
+        copy_par(&mut self.all_x[..nf], &fl.x);
         for (((wall, plate), range), built) in self
             .walls
             .iter()
@@ -375,20 +386,23 @@ where
                 self.all_x[range.clone()].copy_from_slice(&wall.positions(plate));
             }
         }
-        self.all_v[..nf].copy_from_slice(&fl.v);
-        self.all_rho[..nf].copy_from_slice(&fl.rho);
-        // Virtual particles keep rho0, so only fluid volumes change.
-        self.all_vol
-            .resize(self.all_rho.len(), fl.mass / self.p.eos.rho0);
-        for (v, r) in self.all_vol[..nf].iter_mut().zip(&fl.rho) {
-            *v = fl.mass / r;
-        }
+        copy_par(&mut self.all_v[..nf], &fl.v);
+        copy_par(&mut self.all_rho[..nf], &fl.rho);
+        // Virtual particles keep rho0 (their volumes are set anew here: a rebuild may have
+        // moved them to other indices), fluid volumes follow the densities.
+        let mass = fl.mass;
+        self.all_vol.resize(self.all_rho.len(), 0.0);
+        self.all_vol[nf..].fill(mass / self.p.eos.rho0);
+        self.all_vol[..nf]
+            .par_iter_mut()
+            .zip(fl.rho.par_iter())
+            .with_min_len(MIN_TASK_LIGHT)
+            .for_each(|(v, r)| *v = mass / r);
+        let t = self.prof.lap(t, "rates: fluid to work arrays", false);
         for ((wall, plate), range) in self.walls.iter().zip(plates).zip(&self.wall_ranges) {
             wall.fill_velocities(plate, fl, &mut self.all_v[range.clone()]);
         }
-        let t = self
-            .prof
-            .lap(t, "rates: fluid and walls to work arrays", true);
+        let t = self.prof.lap(t, "rates: walls' velocities", true);
         self.virtual_hessians(nf);
         if R::ELASTIC {
             let model = &self.model;
@@ -429,8 +443,10 @@ where
                 .enumerate()
                 .for_each(|(k, a)| *a = art.of_particle(&vsig[k], rho0, &vhess[k]));
         }
-        let report = Const::<N>::pass2(self, fl);
-        self.prof.lap(t, "pass 2", false);
+        Const::<N>::pass2(self, fl);
+        let t = self.prof.lap(t, "pass 2", false);
+        let report = self.stage_report(fl.mass);
+        self.prof.lap(t, "rates: wall force sum, max |a|", true);
         report
     }
 
@@ -513,15 +529,24 @@ where
     }
 
     /// The report of a rate evaluation whose pass 2 has filled the accelerations, particles of
-    /// mass `mass`: sequential, fixed-order reductions (the largest squared acceleration, then
-    /// one square root: bitwise the largest norm, sqrt being correctly rounded and monotone).
+    /// mass `mass`: the largest squared acceleration on all threads (a maximum does not depend
+    /// on the order), then one square root (bitwise the largest norm, sqrt being correctly
+    /// rounded and monotone); the wall force summed in index order on one thread (a sum's
+    /// rounding depends on its order; two additions per particle).
     fn stage_report(&self, mass: f64) -> StageReport<N> {
-        let mut report = StageReport::default();
-        for (a, aw) in self.acc.iter().zip(&self.wall_acc) {
-            report.max_acc = report.max_acc.max(a.norm_squared());
+        let max_acc = self
+            .acc
+            .par_iter()
+            .with_min_len(MIN_TASK_LIGHT)
+            .map(|a| a.norm_squared())
+            .reduce(|| 0.0f64, f64::max);
+        let mut report = StageReport {
+            max_acc: max_acc.sqrt(),
+            ..Default::default()
+        };
+        for aw in &self.wall_acc {
             report.wall_on_fluid += aw * mass;
         }
-        report.max_acc = report.max_acc.sqrt();
         report
     }
 

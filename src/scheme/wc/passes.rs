@@ -396,7 +396,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R, 2> {
     /// Pass 2 (a gather over the cached pairs): momentum (Fang eq. 27, Ren eq. 21) with
     /// artificial viscosity (Fang eqs. 30-37, Ren eq. 19) and artificial stress (Fang eq. 38,
     /// Ren eq. 20a); with EVSS, Morris' viscous Laplacian.
-    pub(super) fn pass2_packed(&mut self, fl: &Fluid) -> StageReport {
+    pub(super) fn pass2_packed(&mut self, fl: &Fluid) {
         let periodic = self.p.domain.period_x.is_some();
         match (periodic, self.laplacian(), self.art.is_on()) {
             (false, false, false) => self.pass2_impl::<false, false, false>(fl),
@@ -413,7 +413,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R, 2> {
     fn pass2_impl<const PERIODIC: bool, const MORRIS: bool, const ART: bool>(
         &mut self,
         fl: &Fluid,
-    ) -> StageReport {
+    ) {
         let nf = fl.len();
         let mass = fl.mass;
         self.acc.resize(nf, Vec2::zeros());
@@ -522,7 +522,6 @@ impl<K: Kernel, R: Rheology> WcCore<K, R, 2> {
                     }
                 });
         }
-        self.stage_report(mass)
     }
 }
 

@@ -87,7 +87,7 @@ where
     }
 
     /// Pass 2 ([`super::WcSpace::pass2`]) pair by pair.
-    pub(super) fn pass2_plain(&mut self, fl: &Fluid<N>) -> StageReport<N> {
+    pub(super) fn pass2_plain(&mut self, fl: &Fluid<N>) {
         let nf = fl.len();
         let mass = fl.mass;
         self.acc.resize(nf, Vector::zeros());
@@ -150,6 +150,5 @@ where
                     (acc_i, wall_i, split_i),
                 );
             });
-        self.stage_report(mass)
     }
 }

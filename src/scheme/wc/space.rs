@@ -7,7 +7,7 @@
 //! over nalgebra types, any N) and have no void fraction yet, so the fracture check does not act
 //! there. A further dimension is one more impl.
 
-use super::{StageReport, WcCore};
+use super::WcCore;
 use crate::boundary::wall::Wall;
 use crate::dim::Const;
 use crate::kernel::Kernel;
@@ -26,10 +26,7 @@ pub trait WcSpace<const N: usize> {
     /// Pass 2 (a gather over the cached pairs): momentum (Fang eq. 27, Ren eq. 21) with
     /// artificial viscosity and stress; with EVSS, Morris' viscous Laplacian. The virtual
     /// particles' stresses are in the work arrays.
-    fn pass2<K: Kernel<N>, R: Rheology>(
-        core: &mut WcCore<K, R, N>,
-        fl: &Fluid<N>,
-    ) -> StageReport<N>;
+    fn pass2<K: Kernel<N>, R: Rheology>(core: &mut WcCore<K, R, N>, fl: &Fluid<N>);
 
     /// Void fraction of the fluid on cells of two spacings `dx` (see [`crate::health`]), None
     /// where the dimension has none (the fracture check then does not act).
@@ -49,7 +46,7 @@ impl WcSpace<2> for Const<2> {
     }
 
     #[inline]
-    fn pass2<K: Kernel, R: Rheology>(core: &mut WcCore<K, R, 2>, fl: &Fluid) -> StageReport {
+    fn pass2<K: Kernel, R: Rheology>(core: &mut WcCore<K, R, 2>, fl: &Fluid) {
         core.pack_stresses();
         core.pass2_packed(fl)
     }
@@ -67,10 +64,7 @@ impl WcSpace<3> for Const<3> {
     }
 
     #[inline]
-    fn pass2<K: Kernel<3>, R: Rheology>(
-        core: &mut WcCore<K, R, 3>,
-        fl: &Fluid<3>,
-    ) -> StageReport<3> {
+    fn pass2<K: Kernel<3>, R: Rheology>(core: &mut WcCore<K, R, 3>, fl: &Fluid<3>) {
         core.pass2_plain(fl)
     }
 
