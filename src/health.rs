@@ -21,7 +21,7 @@ const MIN_TASK: usize = 1024;
 /// Every step runs it (the fracture check), so every part runs on all threads: the bounding
 /// box, the marking of the occupied cells (each stores the same 1, so the order of the stores
 /// does not matter), and the flood, as a labelling of the empty cells' connected components
-/// strip by strip of rows ([`empty_components`]), the strips then joined along their edges. The
+/// strip by strip of rows (`empty_components`), the strips then joined along their edges. The
 /// cells the flood reaches are the component of the empty margin ring all round the grid: the
 /// bottom margin row is empty too (no point lies in it), so with a wall below it is reached
 /// from the side columns and climbs into the row above; the walk below (the old single-thread

@@ -16,16 +16,16 @@ use crate::Vec2;
 /// ([`super::Scene::steady_window`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SteadyWindow {
-    /// When the flow became steady [s].
+    /// When the flow became steady \[s\].
     pub start: f64,
-    /// The end of the averaging [s] (the cylinder array: three time units after `start`).
+    /// The end of the averaging \[s\] (the cylinder array: three time units after `start`).
     pub end: f64,
     /// Whether the run ends at `end` (the cylinder array's `stop_at_steady_state`).
     pub stop: bool,
-    /// The corners of the box the grid covers [m].
+    /// The corners of the box the grid covers \[m\].
     pub lower: Vec2,
     pub upper: Vec2,
-    /// The height of the centre line [m].
+    /// The height of the centre line \[m\].
     pub centre_line: f64,
 }
 

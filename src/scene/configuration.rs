@@ -263,9 +263,9 @@ impl SceneConfig {
         Ok(())
     }
 
-    /// Under `dimension = 3`: a scene with a 3D form ([`Scene::three_dimensional`]), a weakly
-    /// compressible scheme, and a wall model built for a plane (dummy particles; `auto` means
-    /// them in 3D). Each refusal names the parameter and says why.
+    /// Under `dimension = 3`: a scene with a 3D form ([`Scene::three_dimensional`]) and a wall
+    /// model built for a plane (dummy particles for the weakly compressible schemes, `auto`
+    /// meaning them in 3D; mirrors for ISPH). Each refusal names the parameter and says why.
     fn validate_dimension(&self) -> Result<(), ConfigError> {
         use crate::config::WallBoundary;
         if self.numerics.dimension != 3 {

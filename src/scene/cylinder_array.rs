@@ -61,7 +61,7 @@ crate::params! {
         cylinder_cell_height: f64 = real(0.0, 0.0, 1.0e4), vr 69, unit "m";
             "Cylinder array scene: height H of the cell, the distance between its two walls; 0 = 4 R",
         stop_at_steady_state: i64 = integer(0, 0, 1), vr 75, unit "";
-            "Cylinder array scene: 1 = viscosph run and the benchmarks end the run three time units R/<u> after King & Lind's steady state (the flow rate changes by less than 2 % over one time unit), when the averages over those three units are complete; 0 = run to the end time. In the FMU the importer owns time: there it changes nothing, the output steady_state_reached says when the flow is steady",
+            "Cylinder array scene: 1 = viscosph run and the benchmarks end the run three time units R/⟨u⟩ after King & Lind's steady state (the flow rate changes by less than 2 % over one time unit), when the averages over those three units are complete; 0 = run to the end time. In the FMU the importer owns time: there it changes nothing, the output steady_state_reached says when the flow is steady",
     }
 }
 
