@@ -105,22 +105,7 @@ impl Rect {
 
     /// y (+)= M x, row-parallel, each row summed in column order.
     fn apply(&self, x: &[f64], y: &mut [f64], add: bool) {
-        y.par_chunks_mut(ROW_CHUNK)
-            .enumerate()
-            .for_each(|(c, out)| {
-                for (k, yi) in out.iter_mut().enumerate() {
-                    let (cols, vals) = self.row(c * ROW_CHUNK + k);
-                    let mut s = 0.0;
-                    for (&j, &a) in cols.iter().zip(vals) {
-                        s += a * x[j as usize];
-                    }
-                    if add {
-                        *yi += s;
-                    } else {
-                        *yi = s;
-                    }
-                }
-            });
+        rows_times(&self.row_ptr, &self.col, &self.val, x, y, add);
     }
 
     /// The transpose, `cols` columns; each row of the result lists its entries by ascending

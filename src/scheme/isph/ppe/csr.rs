@@ -75,18 +75,7 @@ impl CsrMatrix {
     pub fn matvec(&self, x: &[f64], y: &mut [f64]) {
         assert_eq!(x.len(), self.n());
         assert_eq!(y.len(), self.n());
-        y.par_chunks_mut(ROW_CHUNK)
-            .enumerate()
-            .for_each(|(c, out)| {
-                for (k, yi) in out.iter_mut().enumerate() {
-                    let (cols, vals) = self.row(c * ROW_CHUNK + k);
-                    let mut s = 0.0;
-                    for (&j, &a) in cols.iter().zip(vals) {
-                        s += a * x[j as usize];
-                    }
-                    *yi = s;
-                }
-            });
+        rows_times(&self.row_ptr, &self.col, &self.val, x, y, false);
     }
 
     /// Diagonal entries.
@@ -112,4 +101,36 @@ pub(super) fn flatten_rows(rows: &[Vec<(u32, f64)>]) -> (Vec<usize>, Vec<u32>, V
         .flat_map_iter(|r| r.iter().map(|e| e.1))
         .collect();
     (row_ptr, col, val)
+}
+
+/// y = M x (or y += M x with `add`) for compressed rows `(row_ptr, col, val)` of any shape:
+/// row-parallel in chunks of `ROW_CHUNK`, each row summed in column order, so the result is
+/// the same on any number of threads. The one row loop of [`CsrMatrix::matvec`] and of the
+/// multigrid's transfer operators.
+#[inline]
+pub(super) fn rows_times(
+    row_ptr: &[usize],
+    col: &[u32],
+    val: &[f64],
+    x: &[f64],
+    y: &mut [f64],
+    add: bool,
+) {
+    y.par_chunks_mut(ROW_CHUNK)
+        .enumerate()
+        .for_each(|(c, out)| {
+            for (k, yi) in out.iter_mut().enumerate() {
+                let i = c * ROW_CHUNK + k;
+                let (a, b) = (row_ptr[i], row_ptr[i + 1]);
+                let mut s = 0.0;
+                for (&j, &v) in col[a..b].iter().zip(&val[a..b]) {
+                    s += v * x[j as usize];
+                }
+                if add {
+                    *yi += s;
+                } else {
+                    *yi = s;
+                }
+            }
+        });
 }
