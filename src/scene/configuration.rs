@@ -205,6 +205,7 @@ impl SceneConfig {
             op => op == ViscousOperator::Laplacian,
         };
         p.free_surface = scene.has_free_surface();
+        p.background_pressure = scene.background_pressure(self);
         p.auto_free_surface = scene.auto_free_surface();
         p
     }

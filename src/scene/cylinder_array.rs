@@ -6,10 +6,19 @@
 //! element solution in `validation/cylinder_array/`.
 //!
 //! Walls: the two straight walls (wall 0 at the bottom, wall 1 at the top) and the circle
-//! (wall 2). Under `wall_boundary = auto` ISPH puts mirror particles on all three; the weakly
-//! compressible schemes put their paper's particles on the straight walls (Fang's image
-//! particles, Ren's ghost particles) and dummy particles (Adami et al. 2012) on the cylinder;
-//! `wall_boundary = dummy` puts dummy particles on all three.
+//! (wall 2). Under `wall_boundary = auto` ISPH puts mirror particles on all three and the
+//! weakly compressible schemes dummy particles (Adami et al. 2012) on all three; `image`
+//! (WCSPH) or `ghost` (PDRI) puts their paper's particles on the straight walls instead. Those
+//! let particles through the walls downstream of the gaps between cylinder and walls: at 8
+//! across, Newtonian, WCSPH broke down at t = 3.48 s (a particle at -30 % density next to the
+//! wall) and PDRI at t = 2.65 s (a particle through the wall; 2.05 s with the background
+//! pressure below), while on dummy walls both ran to t = 6 s.
+//!
+//! **Background pressure** (WCSPH, PDRI): the closed cell's pressure is fixed only up to a
+//! constant, and the weakly compressible schemes add `cylinder_background_pressure` times
+//! rho g L H / (2R) to their equation of state, so that the low pressure behind the cylinder
+//! stays positive; in tension SPH's particles clump (the tensile instability). On dummy walls
+//! at 8 across PDRI without it broke down at t = 0.045 s (holes in the fluid).
 //!
 //! **Lattice.** `particles_per_diameter` spacings across the cylinder's diameter 2R (dx =
 //! 2R / n), rows as in the channel (on the wall lines' side at the scheme's
@@ -27,8 +36,7 @@
 //!
 //! Outputs: `cylinder_drag` and `cylinder_lift`, the force of the fluid on the cylinder alone
 //! along and across the flow per unit depth, and `wall_shear_force`, the force of the fluid on
-//! the two channel walls along the flow (all three 0 where the scheme does not split the walls'
-//! force: ISPH with an elastic fluid; see `State::wall_forces`); `mean_velocity` ⟨u⟩ = sum V u_x
+//! the two channel walls along the flow (see `State::wall_forces`); `mean_velocity` ⟨u⟩ = sum V u_x
 //! / sum V over the fluid (the velocity of King & Lind's Wi = ⟨u⟩ lambda / R and
 //! Re = rho ⟨u⟩ R / eta0, which the CLI's summary prints), and the channel's `flow_rate`,
 //! sum V u_x / L, the flux through a cross-section.
@@ -42,7 +50,7 @@
 use super::{Outputs, Predictions, Scene, SceneConfig, SceneType, SteadyWindow};
 use crate::boundary::plate::Plate;
 use crate::boundary::wall::Wall;
-use crate::config::{integer, real, real_pos, ConfigError};
+use crate::config::{integer, real, real_pos, ConfigError, WallBoundary};
 use crate::geometry::{Ball, Shape};
 use crate::neighbors::Domain;
 use crate::particles::Fluid;
@@ -60,6 +68,8 @@ crate::params! {
             "Cylinder array scene: length L of the periodic cell, the distance between neighbouring cylinders (rounded to whole particle spacings); 0 = 6 R",
         cylinder_cell_height: f64 = real(0.0, 0.0, 1.0e4), vr 69, unit "m";
             "Cylinder array scene: height H of the cell, the distance between its two walls; 0 = 4 R",
+        cylinder_background_pressure: f64 = real(1.0, 0.0, 100.0), vr 99, unit "1";
+            "Cylinder array scene, wcsph and pdri: background pressure added to the equation of state, in units of the pressure scale rho g L H / (2 R) (the body force on the cell over the cylinder's diameter, about the pressure difference across the cylinder); it keeps the fluid behind the cylinder out of tension, where the particles clumped and crossed the walls. 0 = none. Ignored under isph",
         stop_at_steady_state: i64 = integer(0, 0, 1), vr 75, unit "";
             "Cylinder array scene: 1 = viscosph run and the benchmarks end the run three time units R/⟨u⟩ after King & Lind's steady state (the flow rate changes by less than 2 % over one time unit), when the averages over those three units are complete; 0 = run to the end time. In the FMU the importer owns time: there it changes nothing, the output steady_state_reached says when the flow is steady",
     }
@@ -186,12 +196,17 @@ fn averaged(o: &Outputs) -> [f64; 5] {
 }
 
 /// King & Lind's steady state of a record (see [`SteadyState`]) for a cylinder of radius
-/// `radius`; None if the flow rate never settled to 2 % over a time unit.
-pub fn steady_state(series: &[(f64, Outputs)], radius: f64) -> Option<SteadyState> {
+/// `radius`, not before `earliest` ([`earliest_steady_time`]); None if the flow rate never
+/// settled to 2 % over a time unit.
+pub fn steady_state(
+    series: &[(f64, Outputs)],
+    radius: f64,
+    earliest: f64,
+) -> Option<SteadyState> {
     let samples: Vec<(f64, f64)> = series.iter().map(|(t, o)| (*t, o.channel.flow_rate)).collect();
     let (time, unit) = series.iter().enumerate().find_map(|(k, (t, o))| {
         let unit = time_unit(radius, o.cylinder_array.mean_velocity)?;
-        settled(&samples[..=k], unit).then_some((*t, unit))
+        (*t >= earliest && settled(&samples[..=k], unit)).then_some((*t, unit))
     })?;
     Some(steady_means(series, time, unit))
 }
@@ -224,15 +239,36 @@ pub fn steady_means(series: &[(f64, Outputs)], time: f64, unit: f64) -> SteadySt
 /// Samples of the flow rate kept per time unit by [`SteadyTracker`].
 const SAMPLES_PER_UNIT: f64 = 64.0;
 
+/// Relaxation times an elastic start-up lasts before King & Lind's criterion is tested: the
+/// polymer stress builds up as 1 - e^{-t/lambda}, still 2 % short of its steady value at
+/// t = 3.9 lambda. Before that the flow rate can pause for a time unit while the stress grows:
+/// at Wi = 0.8 (16 across, ISPH) the criterion held at t = 0.79 s = 1.0 lambda, with ⟨u⟩ 1.127
+/// m/s there against 0.96-1.06 m/s at the neighbouring Wi's steady states.
+pub const START_UP_RELAXATION_TIMES: f64 = 4.0;
+
+/// The earliest time King & Lind's criterion may hold for the fluid of `cfg`: 0 for a fluid
+/// without memory, [`START_UP_RELAXATION_TIMES`] relaxation times for an elastic one.
+pub fn earliest_steady_time(cfg: &SceneConfig) -> f64 {
+    use crate::config::RheologyKind;
+    match cfg.fluid.rheology {
+        RheologyKind::Newtonian | RheologyKind::Cross => 0.0,
+        _ => START_UP_RELAXATION_TIMES * cfg.fluid.relaxation_time,
+    }
+}
+
 /// King & Lind's criterion followed during the run, before every step (the scene's data in
 /// the state, [`crate::state::SceneState`], so a saved FMU state carries it): the flow rate
 /// sampled at least a 64th of a time unit apart over the last two time units, and once the
-/// criterion holds, when (it is not tested again). What the output `steady_state_reached`
-/// reports and what ends a run under `stop_at_steady_state`.
+/// criterion holds (not before `earliest`), when (it is not tested again). What the output
+/// `steady_state_reached` reports and what ends a run under `stop_at_steady_state`. Between
+/// samples a step costs one look at the tracker ([`SteadyTracker::due`]), not a sum over the
+/// fluid.
 #[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SteadyTracker {
     /// (time, flow rate), sorted by time.
     samples: Vec<(f64, f64)>,
+    /// The time unit R / ⟨u⟩ at the last sample: the next one is due a 64th of it later.
+    unit: f64,
     /// The time the criterion first held and the time unit R / ⟨u⟩ then.
     pub reached: Option<(f64, f64)>,
 }
@@ -243,23 +279,28 @@ impl SteadyTracker {
         st.scene.decode().unwrap_or_default()
     }
 
-    /// Take the flow at time `t` (flow rate `q`, mean velocity `u`) into account.
-    fn observe(&mut self, t: f64, q: f64, u: f64, radius: f64) {
-        if self.reached.is_some() {
+    /// Whether a sample is due at time `t`: not steady yet, and a 64th of the last sample's
+    /// time unit since it (at once if there is none).
+    pub fn due(&self, t: f64) -> bool {
+        self.reached.is_none()
+            && self
+                .samples
+                .last()
+                .is_none_or(|(s, _)| t - s >= self.unit / SAMPLES_PER_UNIT)
+    }
+
+    /// Take the flow at time `t` (flow rate `q`, mean velocity `u`) into account, the
+    /// criterion tested from `earliest` on.
+    fn observe(&mut self, t: f64, q: f64, u: f64, radius: f64, earliest: f64) {
+        if !self.due(t) {
             return;
         }
         let Some(unit) = time_unit(radius, u) else {
             return;
         };
-        if self
-            .samples
-            .last()
-            .is_some_and(|(s, _)| t - s < unit / SAMPLES_PER_UNIT)
-        {
-            return;
-        }
+        self.unit = unit;
         self.samples.push((t, q));
-        if settled(&self.samples, unit) {
+        if t >= earliest && settled(&self.samples, unit) {
             self.reached = Some((t, unit));
             self.samples.clear();
             return;
@@ -293,6 +334,14 @@ pub const REFERENCE_DRAG_COEFFICIENT: f64 = 92.82999;
 fn speed_bound(cfg: &SceneConfig) -> f64 {
     cfg.fluid.density * cfg.cylinder_array.cylinder_body_force * height(cfg).powi(2)
         / (8.0 * cfg.fluid.viscosity)
+}
+
+/// The pressure scale of the cell, rho g L H / (2R): the body force on the cell carried by a
+/// pressure difference across the cylinder's diameter (3600 Pa in King & Lind's cell; the FEM's
+/// drag 3938 N/m is 2R times 1969 Pa) [Pa].
+fn pressure_scale(cfg: &SceneConfig) -> f64 {
+    let c = &cfg.cylinder_array;
+    cfg.fluid.density * c.cylinder_body_force * period(cfg) * height(cfg) / (2.0 * c.cylinder_radius)
 }
 
 /// The most rings of fluid particles round the cylinder under mirror walls: beyond the
@@ -346,15 +395,18 @@ impl Scene for CylinderArray {
     /// Lind's Re = 0.024, 3600 Pa against rho U^2 = 1 Pa). Measured at 8 across with
     /// `sound_speed = 20` (rho c^2 = 400 Pa): WCSPH broke up behind the cylinder at t = 0.03 s.
     fn max_expected_speed(&self, cfg: &SceneConfig) -> f64 {
-        let c = &cfg.cylinder_array;
-        let pressure = (c.cylinder_body_force * period(cfg) * height(cfg)
-            / (2.0 * c.cylinder_radius))
-            .sqrt();
+        let pressure = (pressure_scale(cfg) / cfg.fluid.density).sqrt();
         speed_bound(cfg).max(pressure).max(1e-3)
     }
 
     fn velocity_scale(&self, cfg: &SceneConfig) -> f64 {
         speed_bound(cfg).max(1e-12)
+    }
+
+    /// `cylinder_background_pressure` times the pressure scale rho g L H / (2R) (see
+    /// [`pressure_scale`]).
+    fn background_pressure(&self, cfg: &SceneConfig) -> f64 {
+        cfg.cylinder_array.cylinder_background_pressure * pressure_scale(cfg)
     }
 
     /// 2R / U.
@@ -394,9 +446,15 @@ impl Scene for CylinderArray {
         Ok(())
     }
 
-    /// Gravity and Monaghan's artificial viscosity off, as in the channel.
+    /// Gravity and Monaghan's artificial viscosity off, as in the channel; under the weakly
+    /// compressible schemes `wall_boundary = auto` means dummy particles on all three walls
+    /// (module documentation, "Walls").
     fn effective_config(&self, cfg: &SceneConfig) -> SceneConfig {
-        super::channel::body_force_driven(cfg)
+        let mut e = super::channel::body_force_driven(cfg);
+        if e.numerics.wall_boundary == WallBoundary::Auto && !e.scheme.is_incompressible() {
+            e.numerics.wall_boundary = WallBoundary::Dummy;
+        }
+        e
     }
 
     fn has_free_surface(&self) -> bool {
@@ -462,11 +520,12 @@ impl Scene for CylinderArray {
     /// King & Lind's criterion, on the state the step starts from ([`SteadyTracker`]).
     fn before_step(&self, cfg: &SceneConfig, st: &mut State) {
         let mut tracker = SteadyTracker::of(st);
-        if tracker.reached.is_some() {
+        if !tracker.due(st.time) {
             return;
         }
         let (u, q) = mean_velocity_and_flow_rate(&st.fluid, period(cfg));
-        tracker.observe(st.time, q, u, cfg.cylinder_array.cylinder_radius);
+        let r = cfg.cylinder_array.cylinder_radius;
+        tracker.observe(st.time, q, u, r, earliest_steady_time(cfg));
         st.scene = crate::state::SceneState::encode(&tracker);
     }
 
@@ -548,7 +607,7 @@ impl Scene for CylinderArray {
         // The run's own verdict (checked before every step) if it has one, else the record's.
         let steady = match SteadyTracker::of(st).reached {
             Some((time, unit)) => Some(steady_means(series, time, unit)),
-            None => steady_state(series, r),
+            None => steady_state(series, r, earliest_steady_time(cfg)),
         };
         let Some(steady) = steady else {
             lines.push(

@@ -99,6 +99,15 @@ pub trait Scene: Send + Sync {
         IsphFreeSurface::ZeroPressure
     }
 
+    /// Background pressure of the weakly compressible schemes [Pa], added to the equation of
+    /// state's pressure: a closed domain's pressure is fixed only up to a constant, and a
+    /// constant that keeps the pressure positive keeps the fluid out of tension, where SPH's
+    /// particles clump (the tensile instability) and walls pull them in. 0 (the default) for
+    /// a free surface, whose pressure is zero.
+    fn background_pressure(&self, _cfg: &SceneConfig) -> f64 {
+        0.0
+    }
+
     /// Whether the `auto` viscous operator means Morris' Laplacian (see
     /// [`crate::operators::stress`]) rather than Fang's nested form.
     fn viscous_laplacian(&self) -> bool {

@@ -15,6 +15,9 @@ use crate::neighbors::Domain;
 pub struct Params<const N: usize = 2> {
     /// Equation of state (reference density and sound speed).
     pub eos: Eos,
+    /// Background pressure added to the equation of state's pressure [Pa]: the scene's
+    /// ([`crate::scene::Scene::background_pressure`]); 0 for a free surface.
+    pub background_pressure: f64,
     /// Monaghan's artificial viscosity alpha and beta (Fang 2006 eq. 31).
     pub alpha: f64,
     pub beta: f64,
@@ -63,6 +66,7 @@ impl<const N: usize> Params<N> {
         gravity[N - 1] = -f.gravity;
         Self {
             eos: Eos::new(n.equation_of_state, f.density, c),
+            background_pressure: 0.0,
             alpha: n.artificial_viscosity_alpha,
             beta: n.artificial_viscosity_beta,
             art_kind: n.artificial_stress_kind,

@@ -196,15 +196,15 @@ where
     Const<N>: Dim,
 {
     /// Whether a step splits the walls' force wall by wall (`walls` walls): in a closed cell
-    /// (no free surface) of an inelastic fluid with more than one wall. There every force the
-    /// walls exert on the fluid is a pair force with a virtual particle, which belongs to one
-    /// wall, or the momentum the implicit viscous solve changed, which is the virtual pairs'
-    /// viscous force at the solved velocities. Not split: with a free surface (the surface
-    /// terms' net is removed from every particle) and for an elastic fluid in a closed cell,
-    /// where the difference form of div Phi leaves a fluid-pair remainder that is the walls'
-    /// force as a whole but belongs to no one wall (`predictor`).
+    /// (no free surface) with more than one wall. There every force the walls exert on the
+    /// fluid is a pair force with a virtual particle, which belongs to one wall, or the
+    /// momentum the implicit viscous solve changed, which is the virtual pairs' viscous force
+    /// at the solved velocities, or (elastic fluid) the remainder of the difference form of
+    /// div Phi over the fluid pairs, which is nonzero only where a particle's kernel support
+    /// is cut by a wall and is booked to the particle's nearest wall (`predictor`). Not split
+    /// with a free surface (the surface terms' net is removed from every particle).
     fn splits_wall_forces(&self, walls: usize) -> bool {
-        walls > 1 && !self.free_surface && !R::ELASTIC
+        walls > 1 && !self.free_surface
     }
 
     /// The scheme for the numerics `cfg` of an effective configuration, the constants `p` (which

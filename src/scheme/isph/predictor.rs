@@ -19,6 +19,7 @@ use super::projection::extend_pressure;
 use super::{Books, Context, Fields, Isph, MIN_TASK};
 use crate::config::ViscousStep;
 use crate::dim::{Const, Dim, Vector};
+use crate::geometry::Shape;
 use crate::rheology::Rheology;
 use crate::state::State;
 use rayon::prelude::*;
@@ -73,6 +74,9 @@ where
                 let (mut f, mut fw) = (Vector::<N>::zeros(), Vector::<N>::zeros());
                 // The virtual pairs' share wall by wall, where the step splits it.
                 let mut by_wall = vec![Vector::<N>::zeros(); walls];
+                // Closed cell, elastic, split: the difference form's fluid pairs less the
+                // momentum-conserving positive form of the same pairs (see below).
+                let mut remainder = Vector::<N>::zeros();
                 for (kk, &j) in nl.of(i).iter().enumerate() {
                     let j = j as usize;
                     let pj = ctx.source(j);
@@ -84,6 +88,9 @@ where
                         } else {
                             (phi_j - phi[i]) * (l[i] * pairs.grad[off + kk]) * (vol / rho)
                         };
+                        if walls > 0 && j < n && !free_surface {
+                            remainder += a - (phi[i] + phi_j) * pairs.grad[off + kk] * (vol / rho);
+                        }
                     }
                     if w_old > 0.0 {
                         let c = pairs.morris[off + kk] * 0.5 * (mu[i] + mu[pj]) / rho * w_old;
@@ -93,11 +100,28 @@ where
                 }
                 // Closed channel: the difference form's fluid pairs do not cancel; what they
                 // leave is the force the walls exert through the stress (no other boundary).
+                // Split wall by wall: the positive form (phi_i + phi_j) grad W_ij of the same
+                // pairs cancels pair by pair, so the fluid pairs' sum is the sum of each
+                // particle's difference from it, `remainder`, which vanishes where the kernel's
+                // support is full (it is -2 phi_i sum_j grad W_ij V_j with L = I) and is booked
+                // to the particle's nearest wall.
                 let on_wall = if free_surface || !R::ELASTIC {
                     fw
                 } else {
                     f + fw
                 };
+                if walls > 0 && R::ELASTIC && !free_surface {
+                    let nearest = (0..walls)
+                        .min_by(|&a, &b| {
+                            let (da, db) = (
+                                st.walls[a].signed_distance(&fl.x[i]),
+                                st.walls[b].signed_distance(&fl.x[i]),
+                            );
+                            da.total_cmp(&db)
+                        })
+                        .unwrap_or(0);
+                    by_wall[nearest] += remainder;
+                }
                 (remap, f + fw, on_wall, by_wall)
             })
             .collect();

@@ -30,7 +30,14 @@ where
     Const<N>: Dim,
 {
     let eta = model.solvent_viscosity(kappa);
-    let sigma = stress::assemble(p.eos.pressure(rho), eta, kappa, tau, evss, laplacian);
+    let sigma = stress::assemble(
+        p.eos.pressure(rho) + p.background_pressure,
+        eta,
+        kappa,
+        tau,
+        evss,
+        laplacian,
+    );
     let art = art.of_particle(&sigma, rho, hess);
     (evss.viscous_viscosity(eta), sigma, art)
 }
