@@ -10,12 +10,12 @@
 //! * **Wi sweep**, per scheme: Wi = 0 (Newtonian), 0.2, 0.6, 0.8, then 1, 1.5, 2, 3, 4, 6, 8,
 //!   12, 16 until a run breaks down or does not reach the steady state by its end time: time to
 //!   the steady state, steps, wall and CPU time, ⟨u⟩ against the finite elements (Wi 0, 0.2,
-//!   0.6), K = F / (eta0 ⟨u⟩) where the scheme splits the walls' force (not ISPH with an
-//!   elastic fluid).
+//!   0.6), K = F / (eta0 ⟨u⟩) against the finite elements' (Wi 0, 0.2, 0.6).
 //! * **Cost against Wi**: the exponent p of CPU time ~ Wi^p fitted over the stable Wi >= 0.2
 //!   (King & Lind: resolved runs cost about Wi^5).
 //! * **Resolution sweep**: the Newtonian drag coefficient against the finite elements' 92.830
-//!   and the run's CPU time, ISPH at 8 to 24 particles across the diameter.
+//!   and the run's CPU time, ISPH at 8 to 24 particles across the diameter, WCSPH and PDRI at 8
+//!   and 16.
 //! * **Figures** in the style of King & Lind's Figs. 9-11 from the averaged fields
 //!   (`scene::FieldAverage`): speed and tr A in the cell with the cylinder drawn, the
 //!   centre-line u/⟨u⟩ and tau_xx at Wi = 0.2, 0.6, 0.8 with the finite elements' Newtonian
@@ -245,43 +245,44 @@ pub fn bench_cylinders(out: &Path, quick: bool) -> BenchResult<String> {
             log_slope(&steps)
         )?;
     }
-    // Resolution sweep, Newtonian, ISPH.
-    let isph = &schemes[0];
-    let resolutions: &[i64] = if quick { &[] } else { &[8, 12, 16, 24] };
+    // Resolution sweep, Newtonian: ISPH at 8-24 across, WCSPH and PDRI at 8 and 16.
     md.push_str("\n### Resolution: the Newtonian drag against the finite elements (K = 92.830)\n\n| scheme | across | K | error | steps | wall [s] | CPU [s] |\n|---|---|---|---|---|---|---|\n");
-    let mut res_runs: Vec<CellRun> = Vec::new();
-    // The sweep's own Newtonian run counts at its resolution.
-    if let Some(r0) = sweeps[0].1.first() {
-        res_runs.push(CellRun {
-            wi_asked: 0.0,
-            across: r0.across,
-            result: r0.result.clone(),
-            cpu: r0.cpu,
-            steady: r0.steady,
-        });
-    }
-    for &n in resolutions.iter().filter(|&&n| n != isph.across) {
-        eprintln!(
-            "bench cylinders: {} Newtonian at {n} across ...",
-            isph.label
-        );
-        let r = cell_run(&kl_cell(isph, 0.0, n), 0.0, t_end)?;
-        row(&mut String::new(), &mut csv, "resolution", isph.label, &r)?;
-        res_runs.push(r);
-    }
-    res_runs.sort_by_key(|r| r.across);
-    for r in &res_runs {
-        let k = r.k().unwrap_or(f64::NAN);
-        writeln!(
-            md,
-            "| {} | {} | {k:.3} | {:+.2} % | {} | {:.1} | {:.1} |",
-            isph.label,
-            r.across,
-            100.0 * (k / REFERENCE_DRAG_COEFFICIENT - 1.0),
-            r.result.steps,
-            r.result.wall_seconds,
-            r.cpu
-        )?;
+    for (s, (label, runs)) in schemes.iter().zip(&sweeps) {
+        let resolutions: &[i64] = match (quick, s.label) {
+            (true, _) => &[],
+            (false, "isph") => &[8, 12, 16, 24],
+            (false, _) => &[8, 16],
+        };
+        let mut res_runs: Vec<CellRun> = Vec::new();
+        // The sweep's own Newtonian run counts at its resolution.
+        if let Some(r0) = runs.first() {
+            res_runs.push(CellRun {
+                wi_asked: 0.0,
+                across: r0.across,
+                result: r0.result.clone(),
+                cpu: r0.cpu,
+                steady: r0.steady,
+            });
+        }
+        for &n in resolutions.iter().filter(|&&n| n != s.across) {
+            eprintln!("bench cylinders: {label} Newtonian at {n} across ...");
+            let r = cell_run(&kl_cell(s, 0.0, n), 0.0, t_end)?;
+            row(&mut String::new(), &mut csv, "resolution", label, &r)?;
+            res_runs.push(r);
+        }
+        res_runs.sort_by_key(|r| r.across);
+        for r in &res_runs {
+            let k = r.k().unwrap_or(f64::NAN);
+            writeln!(
+                md,
+                "| {label} | {} | {k:.3} | {:+.2} % | {} | {:.1} | {:.1} |",
+                r.across,
+                100.0 * (k / REFERENCE_DRAG_COEFFICIENT - 1.0),
+                r.result.steps,
+                r.result.wall_seconds,
+                r.cpu
+            )?;
+        }
     }
     figures(out, &sweeps)?;
     std::fs::write(out.join("cylinders.csv"), &csv)?;
@@ -369,7 +370,9 @@ fn figures(out: &Path, sweeps: &[(&'static str, Vec<CellRun>)]) -> BenchResult<(
         .collect();
     for (file, field, k) in [
         ("cylinders_speed.png", "speed [m/s]", None),
-        ("cylinders_trace.png", "tr(A) [-]", Some(2)),
+        // tr A spans 2-9 at Wi 0.2 and 2-100 at Wi 0.8: each panel over its own largest
+        // value (named in its title), so that every panel uses the whole colour bar.
+        ("cylinders_trace.png", "tr(A) / panel max [-]", Some(2)),
     ] {
         let shots: Vec<plot::Snapshot> = shown
             .iter()
@@ -382,16 +385,25 @@ fn figures(out: &Path, sweeps: &[(&'static str, Vec<CellRun>)]) -> BenchResult<(
                     .particles()
                     .unwrap_or_else(|| a.cells().into_iter().map(|(c, m, _)| (c, m)).collect());
                 let centre = (0.5 * (w.lower.x + w.upper.x), 0.5 * (w.lower.y + w.upper.y));
+                let values: Vec<f64> = points
+                    .iter()
+                    .map(|(_, m)| match k {
+                        Some(k) => m[k],
+                        None => m[0].hypot(m[1]),
+                    })
+                    .collect();
+                let (title, values) = match k {
+                    Some(_) => {
+                        let top = values.iter().copied().fold(0.0f64, f64::max);
+                        let scaled = values.iter().map(|v| v / top.max(1e-300)).collect();
+                        (format!("Wi = {}, tr A up to {top:.3}", r.wi_asked), scaled)
+                    }
+                    None => (format!("Wi = {}", r.wi_asked), values),
+                };
                 plot::Snapshot {
-                    title: format!("Wi = {}", r.wi_asked),
+                    title,
                     points: points.iter().map(|(c, _)| (c.x, c.y)).collect(),
-                    values: points
-                        .iter()
-                        .map(|(_, m)| match k {
-                            Some(k) => m[k],
-                            None => m[0].hypot(m[1]),
-                        })
-                        .collect(),
+                    values,
                     walls: outline(centre, 1.0),
                     spacing: 2.0 / r.across as f64,
                     plates: vec![
