@@ -108,7 +108,7 @@ pub fn column(st: &State, cfg: &SceneConfig) -> Column {
                 .map(|&j| (x[j as usize] - x[i]).norm())
                 .collect();
             r.sort_by(f64::total_cmp);
-            let k = r.len().min(4).max(1);
+            let k = r.len().clamp(1, 4);
             r.iter().take(k).sum::<f64>() / k as f64 / dx
         })
         .collect();
