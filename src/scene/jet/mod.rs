@@ -51,9 +51,11 @@ use crate::state::State;
 use crate::{Mat2, Vec2};
 
 mod buckling;
+mod column;
 mod nozzle;
 
 pub use buckling::{buckling, summary, Buckling, ONSET_FRACTION};
+pub use column::{column, Column};
 pub use nozzle::{
     buffer_rows, inflow_log, inflow_velocity, side_walls, InflowLog, Nozzle, SEED,
 };
