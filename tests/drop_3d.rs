@@ -237,8 +237,11 @@ fn dimension_3_refuses_what_has_no_3d_form_by_name() {
         }
         Simulation::validate(&c).unwrap_err().to_string()
     };
-    let e = refusal(&[("scene", s("channel"))]);
-    assert!(e.contains("'channel'") && e.contains("'drop'"), "{e}");
+    let e = refusal(&[("scene", s("jet"))]);
+    assert!(
+        e.contains("'jet'") && e.contains("'drop'") && e.contains("'channel'"),
+        "{e}"
+    );
     let e = refusal(&[("wall_boundary", s("image"))]);
     assert!(
         e.contains("wall_boundary = image") && e.contains("dummy"),

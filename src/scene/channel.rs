@@ -26,6 +26,7 @@ use crate::config::{real, real_pos, ConfigError};
 use crate::diagnostics::SharedOutputs;
 use crate::neighbors::Domain;
 use crate::particles::Fluid;
+use crate::dim::{Tensor, Vector};
 use crate::state::State;
 use crate::{Mat2, Vec2};
 use nalgebra::{Matrix3, Vector3};
@@ -57,6 +58,24 @@ pub const MIN_COLUMNS: i64 = 8;
 
 /// The channel scene.
 pub struct Channel;
+
+/// The fewest particle spacings a periodic axis of the channel takes: [`MIN_COLUMNS`], or more
+/// where a larger smoothing length reaches further.
+pub fn least_columns(cfg: &SceneConfig) -> i64 {
+    MIN_COLUMNS.max((4.5 * cfg.numerics.smoothing_ratio).ceil() as i64 + 1)
+}
+
+/// Number of particle spacings across the flow in 3D (along y, periodic): the fewest the
+/// periodic neighbour search allows ([`least_columns`]). Plane Poiseuille flow does not vary
+/// across, so a wider period would only cost particles.
+pub fn columns_across(cfg: &SceneConfig) -> i64 {
+    least_columns(cfg)
+}
+
+/// The period across the flow in 3D (along y) \[m\].
+pub fn period_across(cfg: &SceneConfig) -> f64 {
+    columns_across(cfg) as f64 * cfg.dx()
+}
 
 /// Number of particle spacings along the period.
 pub fn columns(cfg: &SceneConfig) -> i64 {
@@ -114,17 +133,22 @@ impl Scene for Channel {
         (if elastic { 3.0 * u } else { u }).max(1e-3)
     }
 
-    /// The fluid and the two walls' particles.
+    /// The fluid and the two walls' particles (in 3D: times the columns across, three dummy
+    /// layers per wall).
     fn estimated_particles(&self, cfg: &SceneConfig) -> f64 {
         let ch = &cfg.channel;
         let ppd = cfg.numerics.particles_per_diameter as f64;
         let along = (ch.channel_length.max(ch.channel_width) / ch.channel_width) * ppd;
-        ppd * along + 10.0 * along
+        if cfg.numerics.dimension == 3 {
+            (ppd + 6.0) * along * columns_across(cfg) as f64
+        } else {
+            ppd * along + 10.0 * along
+        }
     }
 
     fn validate(&self, cfg: &SceneConfig) -> Result<(), ConfigError> {
         let n = columns(cfg);
-        let least = MIN_COLUMNS.max((4.5 * cfg.numerics.smoothing_ratio).ceil() as i64 + 1);
+        let least = least_columns(cfg);
         if n < least {
             return Err(ConfigError::Inconsistent(format!(
                 "channel_length = {} m is {n} particle spacings: the periodic channel needs at \
@@ -190,8 +214,48 @@ impl Scene for Channel {
         true
     }
 
+    /// Periodic along the flow; in 3D across it (y) too.
     fn domain(&self, cfg: &SceneConfig) -> Domain {
-        Domain::periodic_x(period(cfg))
+        let d = Domain::periodic_x(period(cfg));
+        if cfg.numerics.dimension == 3 {
+            d.with_period(1, period_across(cfg))
+        } else {
+            d
+        }
+    }
+
+    /// Plane Poiseuille flow between the walls z = 0 and z = H, periodic along x and y
+    /// ([`build_3d`]).
+    fn three_dimensional(&self) -> bool {
+        true
+    }
+
+    fn initial_state_3d(&self, cfg: &SceneConfig, rest: Option<Tensor<3>>) -> Option<State<3>> {
+        let (fluid, walls) = build_3d(cfg, rest);
+        Some(State::new(fluid, walls, self.plate_wall()))
+    }
+
+    /// The 2D outputs' definitions over the 3D box: the flow rate per unit depth across
+    /// (sum V u_x / (L L_y)), the wall shear stress over both walls' area 2 L L_y.
+    fn outputs_3d(&self, st: &State<3>, cfg: &SceneConfig) -> Outputs {
+        let fl = &st.fluid;
+        let (h, l, dx) = (cfg.channel.channel_width, period(cfg), cfg.dx());
+        let area = l * period_across(cfg);
+        let flow: f64 =
+            fl.v.iter()
+                .zip(&fl.rho)
+                .map(|(v, r)| fl.mass / r * v.x)
+                .sum::<f64>()
+                / area;
+        Outputs {
+            shared: health_outputs(st, cfg),
+            channel: ChannelOutputs {
+                centreline_velocity: centreline_velocity(fl, h, dx),
+                flow_rate: flow,
+                wall_shear_stress: st.wall_force.x / (2.0 * area),
+            },
+            ..Default::default()
+        }
     }
 
     fn domain_radius(&self, cfg: &SceneConfig) -> f64 {
@@ -295,6 +359,56 @@ impl Scene for Channel {
     }
 }
 
+/// The 3D channel: the fluid fills the cubic lattice (i dx, j dx, (k + 1/2) dx), i < L / dx,
+/// j < [`columns_across`], k < n, between the plane walls z = 0 (normal +z, columns along +x)
+/// and z = H (normal -z, columns along -x), each spanning one period along x (fixed columns)
+/// and, through the periodic domain, one across. Every 3D wall model puts its particles half a
+/// spacing or more beyond the wall plane (dummy layers at -(k + 1/2) dx, mirrors of the fluid),
+/// so the fluid fills the whole width, as the 2D mirror lattice does; the fluid's columns line
+/// up with the dummy particles' (x = i dx, y = j dx), so the lattice runs on into the walls.
+pub fn build_3d(cfg: &SceneConfig, rest: Option<Tensor<3>>) -> (Fluid<3>, Vec<Wall<3>>) {
+    let dx = cfg.dx();
+    let (n, m, w) = (
+        cfg.numerics.particles_per_diameter,
+        columns(cfg),
+        columns_across(cfg),
+    );
+    let mut fluid = Fluid::<3> {
+        mass: cfg.fluid.density * dx.powi(3),
+        ..Default::default()
+    };
+    for k in 0..n {
+        for j in 0..w {
+            for i in 0..m {
+                fluid.x.push(Vector::<3>::new(
+                    i as f64 * dx,
+                    j as f64 * dx,
+                    (k as f64 + 0.5) * dx,
+                ));
+            }
+        }
+    }
+    let count = fluid.x.len();
+    fluid.v = vec![Vector::<3>::zeros(); count];
+    fluid.rho = vec![cfg.fluid.density; count];
+    if let Some(a0) = rest {
+        fluid.conf = vec![a0; count];
+    }
+    let h = cfg.channel.channel_width;
+    let wall = |z: f64, up: f64, k_min: i64, k_max: i64| {
+        let mut p = Plate::<3>::through(
+            Vector::<3>::new(0.0, 0.0, z),
+            Vector::<3>::new(0.0, 0.0, up),
+            Vector::<3>::new(up, 0.0, 0.0),
+            dx,
+        );
+        (p.k_min, p.k_max, p.fixed) = (k_min, k_max, true);
+        Wall::from(p)
+    };
+    // As in 2D, the upper wall's tangent is -x: its columns at s = -k dx sit at x = k dx.
+    (fluid, vec![wall(0.0, 1.0, 0, m - 1), wall(h, -1.0, 1 - m, 0)])
+}
+
 /// A closed cell driven by a body force (the channel, the cylinder array): gravity off, and so
 /// is Monaghan's artificial viscosity (see [`Channel`]'s `effective_config`).
 pub fn body_force_driven(cfg: &SceneConfig) -> SceneConfig {
@@ -308,7 +422,10 @@ pub fn body_force_driven(cfg: &SceneConfig) -> SceneConfig {
 /// The health figures of the shared outputs only (a closed cell has no drop extents, and no
 /// one plate carries its force): kinetic energy, volume error (sum(m / rho)'s under every
 /// scheme: a closed cell keeps it), conformation extremes, time step, particle count, voids.
-pub fn health_outputs(st: &State, cfg: &SceneConfig) -> SharedOutputs {
+pub fn health_outputs<const N: usize>(st: &State<N>, cfg: &SceneConfig) -> SharedOutputs
+where
+    nalgebra::Const<N>: nalgebra::DimMin<nalgebra::Const<N>, Output = nalgebra::Const<N>>,
+{
     let full = SharedOutputs::compute(st, cfg.dx(), cfg.fluid.density);
     SharedOutputs {
         kinetic_energy: full.kinetic_energy,
@@ -323,17 +440,18 @@ pub fn health_outputs(st: &State, cfg: &SceneConfig) -> SharedOutputs {
 }
 
 /// u at y = H/2 from a least-squares parabola u = c0 + c1 y' + c2 y'^2 (y' = y - H/2) through
-/// the particles within 2 dx of the centre line (0 if there are fewer than three).
-pub fn centreline_velocity(fl: &Fluid, h: f64, dx: f64) -> f64 {
+/// the particles within 2 dx of the centre line (0 if there are fewer than three). In 3D the
+/// coordinate across the walls is z (the last axis), the flow along x.
+pub fn centreline_velocity<const N: usize>(fl: &Fluid<N>, h: f64, dx: f64) -> f64 {
     let mut a = Matrix3::<f64>::zeros();
     let mut b = Vector3::<f64>::zeros();
     let mut count = 0;
     for (x, v) in fl.x.iter().zip(&fl.v) {
-        let y = (x.y - 0.5 * h) / dx;
+        let y = (x[N - 1] - 0.5 * h) / dx;
         if y.abs() <= 2.0 {
             let phi = Vector3::new(1.0, y, y * y);
             a += phi * phi.transpose();
-            b += phi * v.x;
+            b += phi * v[0];
             count += 1;
         }
     }
