@@ -139,8 +139,9 @@ impl Lateral {
             let (i, j) = ((a + 1) % 3, (a + 2) % 3);
             p.n[i] * p.t[j] - p.n[j] * p.t[i]
         });
+        // b is an axis to round-off (n x t of a plate tilted about y is (0, cos^2 + sin^2, 0)).
         if let Some(l) = (0..N)
-            .find(|&a| b[a].abs() == 1.0)
+            .find(|&a| (b[a].abs() - 1.0).abs() < 1e-12)
             .and_then(|a| domain.period(a))
         {
             return Self {

@@ -2,16 +2,33 @@
 //! vertically down at the impact velocity towards a rigid plate. Under `dimension = 3` the drop
 //! is a sphere cut from the cubic lattice and the plate a plane tilted about the y axis
 //! ([`build_3d`], [`plate_3d`]); its outputs are the shared ones (the load bins along the plate,
-//! per unit depth, hold 0 there).
+//! per unit depth, hold 0 there). `drop_shape = slab` makes the 3D drop the 2D disc extended
+//! across: a cylinder of fluid along y, periodic across with the fewest spacings the periodic
+//! neighbour search allows ([`slab_layers`]): the 2D flow computed by the 3D code, which checks
+//! the one against the other.
 
 use super::{Outputs, Scene, SceneConfig, SceneType};
 use crate::boundary::plate::{Motion, Plate};
 use crate::boundary::wall::Wall;
-use crate::config::{real, real_pos, ConfigError};
+use crate::config::{enumeration, real, real_pos, ConfigError};
+use crate::neighbors::Domain;
 use crate::state::State;
 use crate::particles::Fluid;
 use crate::dim::{Tensor, Vector};
 use crate::{Mat2, Vec2};
+
+/// The shapes of the 3D drop (`drop_shape`).
+pub const DROP_SHAPES: &[(&str, &str)] = &[
+    ("sphere", "a sphere of diameter drop_diameter"),
+    (
+        "slab",
+        "the 2D disc extended across the plane of the flow: a cylinder of fluid of diameter drop_diameter along y, periodic across with the fewest particle spacings the neighbour search allows (8 at the default smoothing ratio)",
+    ),
+];
+
+crate::choice_enum!(
+    /// The shape of the 3D drop.
+    DropShape, DROP_SHAPES, Sphere = "sphere", Slab = "slab");
 
 crate::params! {
     /// The drop: its size, where it starts and how fast.
@@ -22,6 +39,8 @@ crate::params! {
             "Diameter of the initial (circular) drop",
         initial_drop_height: f64 = real_pos(0.04, 100.0), vr 7, unit "m", alias "drop_height";
             "Height of the drop centre above the impact point at t = 0, measured vertically (scene files may also call it drop_height)",
+        drop_shape: DropShape = enumeration::<DropShape>("DropShape", "sphere"), vr 76, unit "";
+            "3D only: sphere, or slab = the 2D disc extended across the plane of the flow (a cylinder of fluid periodic across, for checking the 3D code against the 2D one); not read in 2D",
     }
 }
 
@@ -135,10 +154,22 @@ pub fn plate_3d(inclination_deg: f64, dx: f64) -> Plate<3> {
     )
 }
 
+/// Layers of particles across the slab (`drop_shape = slab`): the fewest the periodic
+/// neighbour search allows, as across the 3D channel.
+pub fn slab_layers(cfg: &SceneConfig) -> i64 {
+    super::channel::least_columns(cfg)
+}
+
+/// Whether the drop is the 3D slab.
+fn is_slab(cfg: &SceneConfig) -> bool {
+    cfg.numerics.dimension == 3 && cfg.drop.drop_shape == DropShape::Slab
+}
+
 /// Build the fluid of a 3D drop: a sphere cut from the cubic lattice (i + 1/2, j + 1/2,
 /// k + 1/2) dx about the drop centre in the plate's frame (along t, n x t and n), as the 2D
 /// drop's disc, moving vertically down (-z) at the impact velocity; each particle of mass
-/// rho0 dx^3.
+/// rho0 dx^3. The slab (`drop_shape = slab`) is the 2D disc's lattice points repeated at
+/// y = j dx, j < [`slab_layers`], on the rows of the plate's dummy particles.
 pub fn build_3d(cfg: &SceneConfig, rest: Option<Tensor<3>>) -> (Fluid<3>, Plate<3>) {
     let dx = cfg.dx();
     let plate = plate_3d(cfg.plate.plate_inclination, dx);
@@ -151,11 +182,22 @@ pub fn build_3d(cfg: &SceneConfig, rest: Option<Tensor<3>>) -> (Fluid<3>, Plate<
         mass: cfg.fluid.density * dx.powi(3),
         ..Default::default()
     };
+    let slab = is_slab(cfg);
+    let (j_lo, j_hi, j_off) = if slab {
+        (0, slab_layers(cfg), 0.0)
+    } else {
+        (-n, n, 0.5)
+    };
     for k in -n..n {
-        for j in -n..n {
+        for j in j_lo..j_hi {
             for i in -n..n {
-                let l = Vector::<3>::new(i as f64 + 0.5, j as f64 + 0.5, k as f64 + 0.5) * dx;
-                if l.norm_squared() < r * r {
+                let l = Vector::<3>::new(i as f64 + 0.5, j as f64 + j_off, k as f64 + 0.5) * dx;
+                let r2 = if slab {
+                    l.x * l.x + l.z * l.z
+                } else {
+                    l.norm_squared()
+                };
+                if r2 < r * r {
                     fluid.x.push(plate.point(sc + l.x, dc + l.z) + across * l.y);
                 }
             }
@@ -219,10 +261,13 @@ impl Scene for Drop {
     }
 
     /// The fluid and the plate's wall particles: in 2D four rows, twenty diameters long; in
-    /// 3D a sphere and three layers under a plate four diameters square.
+    /// 3D a sphere and three layers under a plate four diameters square (the slab: the disc
+    /// and three layers under a plate four diameters long, times the layers across).
     fn estimated_particles(&self, cfg: &SceneConfig) -> f64 {
         let ppd = cfg.numerics.particles_per_diameter as f64;
-        if cfg.numerics.dimension == 3 {
+        if is_slab(cfg) {
+            (std::f64::consts::FRAC_PI_4 * ppd * ppd + 3.0 * 4.0 * ppd) * slab_layers(cfg) as f64
+        } else if cfg.numerics.dimension == 3 {
             std::f64::consts::FRAC_PI_6 * ppd.powi(3) + 3.0 * 16.0 * ppd * ppd
         } else {
             std::f64::consts::FRAC_PI_4 * ppd * ppd + 4.0 * ppd * 20.0
@@ -231,6 +276,15 @@ impl Scene for Drop {
 
     fn domain_radius(&self, cfg: &SceneConfig) -> f64 {
         1000.0 * cfg.drop.drop_diameter + 10.0 * cfg.drop.initial_drop_height
+    }
+
+    /// Open; the slab is periodic across (y), one period [`slab_layers`] spacings.
+    fn domain(&self, cfg: &SceneConfig) -> Domain {
+        if is_slab(cfg) {
+            Domain::OPEN.with_period(1, slab_layers(cfg) as f64 * cfg.dx())
+        } else {
+            Domain::OPEN
+        }
     }
 
     fn validate(&self, cfg: &SceneConfig) -> Result<(), ConfigError> {
