@@ -1,6 +1,7 @@
 //! `viscosph bench stability`: stability maps of the drop: the largest stable De per scheme and
 //! elastic rheology, and one-parameter sweeps of beta, inclination, impact velocity and
-//! resolution.
+//! resolution. `--dimension 3` runs the De map and the sweeps on the sphere (20 particles per
+//! diameter by default) into `stability_3d.*`, the 2D limits beside the 3D ones.
 
 use super::built_schemes;
 use crate::io::plot::status_grid;
@@ -19,11 +20,16 @@ pub struct StabilityArgs {
     /// sweeps of the Oldroyd-B drop, or both.
     #[arg(long, value_enum, default_value = "all")]
     pub part: StabilityPart,
-    /// Particles per diameter of the De map and of the one-parameter sweeps (the issue asks for
-    /// 40 or finer: at 20 every case was stable up to the largest De tried, which measures
-    /// little).
-    #[arg(long, default_value_t = 40)]
-    pub resolution: i64,
+    /// Particles per diameter of the De map and of the one-parameter sweeps; default 40 in 2D
+    /// (at 20 every case was stable up to the largest De tried, which measures little) and 20
+    /// in 3D (a sphere at 20 per diameter is 4,000 particles, at 40 already 34,000).
+    #[arg(long)]
+    pub resolution: Option<i64>,
+    /// 2: Fang's disc; 3: the sphere on a plane (results in `stability_3d.*`, PNGs
+    /// `stability_3d_*.png`, with the 2D limits of `stability.csv` in the same directory, if
+    /// there, beside the 3D ones).
+    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(i64).range(2..=3))]
+    pub dimension: i64,
     /// Only these one-parameter sweeps (comma-separated: beta, inclination, velocity,
     /// resolution); default all. Lets the sweeps run as separate processes side by side.
     #[arg(long, value_delimiter = ',')]
@@ -103,10 +109,25 @@ pub fn bench_stability(
         return Err(format!("unknown sweep '{n}' (known: {})", SWEEPS.join(", ")).into());
     }
     let t_star_end = if quick { 3.0 } else { 8.0 };
-    // The De map and the one-parameter sweeps run at `--resolution` (40 by default: at 20 ISPH
-    // loses single particles at the contact line of Fang's drop, and every weakly compressible
-    // case was stable, which measured little); the resolution sweep goes from 12 to 60.
-    let ppd: i64 = if quick { 12 } else { args.resolution };
+    let three = args.dimension == 3;
+    // The De map and the one-parameter sweeps run at `--resolution` (40 by default in 2D: at
+    // 20 ISPH loses single particles at the contact line of Fang's drop, and every weakly
+    // compressible case was stable, which measured little; 20 in 3D, 8 with --quick); the
+    // resolution sweep goes from 12 to 60 (2D) or 10 to 30 (3D).
+    let ppd: i64 = match (quick, three) {
+        (true, false) => 12,
+        (true, true) => 8,
+        (false, _) => args.resolution.unwrap_or(if three { 20 } else { 40 }),
+    };
+    // Every file of a 3D run carries `_3d` after `stability`, so the 2D results stay.
+    let stem = if three { "stability_3d" } else { "stability" };
+    let file = |rest: &str| out.join(format!("{stem}{rest}"));
+    // The 2D limits beside the 3D ones: the last value each 2D sweep found stable.
+    let limits_2d = if three {
+        std::fs::read_to_string(out.join("stability.csv")).unwrap_or_default()
+    } else {
+        String::new()
+    };
     let ppd_de = ppd;
     // Decades up to 10^5: at De >> 1 the polymer modulus eta_p / lambda is small and the drop
     // behaves like its solvent, so a scheme that survives 10^3 usually survives more; the ladder
@@ -135,6 +156,7 @@ pub fn bench_stability(
         };
         c.fluid.rheology = rheo;
         c.numerics.particles_per_diameter = ppd;
+        c.numerics.dimension = args.dimension;
         c
     };
     let record = |csv: &mut String,
@@ -167,7 +189,7 @@ pub fn bench_stability(
     // 1. Deborah number De = lambda V / D, per scheme and elastic rheology (beta = 0.1), in
     // ascending decades until the first breakdown (the larger values are then not run).
     if args.part != StabilityPart::Sweeps {
-        writeln!(md, "### Largest stable De (drop to t* = {t_star_end}, {ppd_de} particles per diameter, beta = 0.1)\n")?;
+        writeln!(md, "### Largest stable De ({}drop to t* = {t_star_end}, {ppd_de} particles per diameter, beta = 0.1)\n", if three { "3D: the sphere; " } else { "" })?;
         writeln!(
             md,
             "De in decades from {} to {}, stopping at the first breakdown; \"none\" in the last \
@@ -178,7 +200,9 @@ pub fn bench_stability(
         )?;
         writeln!(
             md,
-            "| scheme | rheology | largest stable De | largest tried | first failure | wall time [s] |\n|---|---|---|---|---|---|"
+            "| scheme | rheology | largest stable De | largest tried | first failure | wall time [s] |{}\n|---|---|---|---|---|---|{}",
+            if three { " most severe stable in 2D |" } else { "" },
+            if three { "---|" } else { "" },
         )?;
         for &scheme in &schemes {
             let rheos = elastic_rheologies();
@@ -200,7 +224,7 @@ pub fn bench_stability(
                     let o = classify(&c, t_star_end);
                     record(&mut csv, "deborah", &c, "De", de, &o);
                     // Row by row, so a sweep of hours stopped early keeps what it measured.
-                    std::fs::write(out.join("stability.csv"), &csv)?;
+                    std::fs::write(file(".csv"), &csv)?;
                     row.push(o.as_ref().map(|o| o.stable));
                     match &o {
                         Some(o) if o.stable => {
@@ -222,16 +246,25 @@ pub fn bench_stability(
                 }
                 writeln!(
                     md,
-                    "| {scheme} | {rheo} | {} | {tried} | {first_fail} | {wall:.0} |",
+                    "| {scheme} | {rheo} | {} | {tried} | {first_fail} | {wall:.0} |{}",
                     best.map(|d| d.to_string())
-                        .unwrap_or(format!("< {}", des[0]))
+                        .unwrap_or(format!("< {}", des[0])),
+                    if three {
+                        format!(
+                            " {} |",
+                            last_stable(&limits_2d, "deborah", scheme.as_str(), rheo.as_str())
+                        )
+                    } else {
+                        String::new()
+                    }
                 )?;
                 cells.push(row);
             }
             status_grid(
-                &out.join(format!("stability_de_{scheme}.png")),
+                &file(&format!("_de_{scheme}.png")),
                 &format!(
-                    "{scheme}, {ppd_de} per diameter: stable (green) / broken (red) / not run (grey) against De"
+                    "{}{scheme}, {ppd_de} per diameter: stable (green) / broken (red) / not run (grey) against De",
+                    if three { "3D sphere, " } else { "" }
                 ),
                 "De = lambda V / D [-]",
                 "rheology",
@@ -244,8 +277,8 @@ pub fn bench_stability(
 
     // 2. One-parameter sweeps of the Oldroyd-B drop (De = 1) per scheme.
     if args.part == StabilityPart::De {
-        std::fs::write(out.join("stability.csv"), &csv)?;
-        std::fs::write(out.join("stability.md"), &md)?;
+        std::fs::write(file(".csv"), &csv)?;
+        std::fs::write(file(".md"), &md)?;
         return Ok(md);
     }
     type Setter = fn(&mut SceneConfig, f64);
@@ -286,14 +319,19 @@ pub fn bench_stability(
         (
             "resolution",
             "particles_per_diameter",
-            vec![12.0, 16.0, 20.0, 30.0, 40.0, 60.0],
+            if three {
+                vec![10.0, 16.0, 20.0, 30.0]
+            } else {
+                vec![12.0, 16.0, 20.0, 30.0, 40.0, 60.0]
+            },
             |c, v| c.numerics.particles_per_diameter = v as i64,
             false,
         ),
     ];
     writeln!(
         md,
-        "\n### One-parameter sweeps (Oldroyd-B, De = 1 unless swept, {ppd} particles per diameter unless swept, drop to t* = {t_star_end})\n"
+        "\n### One-parameter sweeps ({}Oldroyd-B, De = 1 unless swept, {ppd} particles per diameter unless swept, drop to t* = {t_star_end})\n",
+        if three { "3D: the sphere; " } else { "" }
     )?;
     for (name, label, values, set, stop_at_failure) in sweeps {
         debug_assert!(SWEEPS.contains(&name), "{name} missing from SWEEPS");
@@ -327,7 +365,7 @@ pub fn bench_stability(
                 eprintln!("bench stability: {scheme} {name} = {v} ...");
                 let o = classify(&c, t_star_end);
                 record(&mut csv, name, &c, label, v, &o);
-                std::fs::write(out.join("stability.csv"), &csv)?;
+                std::fs::write(file(".csv"), &csv)?;
                 row.push(o.as_ref().map(|o| o.stable));
                 let (desc, wall) = match &o {
                     Some(o) if o.stable => ("stable".to_string(), o.wall_seconds),
@@ -357,9 +395,17 @@ pub fn bench_stability(
                     .collect::<Vec<_>>()
                     .join(", ")
             };
+            let beside = if three {
+                format!(
+                    " (2D: most severe stable value {})",
+                    last_stable(&limits_2d, name, scheme.as_str(), "oldroyd_b")
+                )
+            } else {
+                String::new()
+            };
             writeln!(
                 summary,
-                "- {scheme}: stable at {}; {}",
+                "- {scheme}: stable at {}; {}{beside}",
                 if stable_values.is_empty() {
                     "none".to_string()
                 } else {
@@ -377,9 +423,10 @@ pub fn bench_stability(
         }
         writeln!(md, "\n{summary}")?;
         status_grid(
-            &out.join(format!("stability_{name}.png")),
+            &file(&format!("_{name}.png")),
             &format!(
-                "Oldroyd-B drop, De = 1: stable (green) / broken (red) / not run (grey) against {label}"
+                "{}Oldroyd-B drop, De = 1: stable (green) / broken (red) / not run (grey) against {label}",
+                if three { "3D sphere, " } else { "" }
             ),
             label,
             "scheme",
@@ -388,7 +435,31 @@ pub fn bench_stability(
             &cells,
         )?;
     }
-    std::fs::write(out.join("stability.csv"), &csv)?;
-    std::fs::write(out.join("stability.md"), &md)?;
+    std::fs::write(file(".csv"), &csv)?;
+    std::fs::write(file(".md"), &md)?;
     Ok(md)
+}
+
+/// The most severe value a sweep of `stability.csv` (text `csv`) found stable for `scheme` and
+/// `rheology`: the last stable row (each sweep runs from the mildest value to the most severe;
+/// the resolution sweep's rows all run, so there it is the finest): "-" when the file has no
+/// such rows, "none" when every row broke.
+fn last_stable(csv: &str, sweep: &str, scheme: &str, rheology: &str) -> String {
+    let mut seen = false;
+    let mut last: Option<&str> = None;
+    for line in csv.lines().skip(1) {
+        let f: Vec<&str> = line.splitn(7, ',').collect();
+        if f.len() < 6 || f[0] != sweep || f[1] != scheme || f[2] != rheology {
+            continue;
+        }
+        seen = true;
+        if f[5] == "stable" {
+            last = Some(f[4]);
+        }
+    }
+    match (seen, last) {
+        (false, _) => "-".into(),
+        (true, None) => "none".into(),
+        (true, Some(v)) => v.into(),
+    }
 }
