@@ -16,7 +16,7 @@
 //! | `wall_force_normal` | force of the fluid on the plate per unit depth along -n (into the plate), from the last step's corrector stage |
 //! | `wall_force_tangential` | same force along the downhill tangent t |
 //! | `kinetic_energy` | sum of m v^2 / 2 over fluid particles [J/m] |
-//! | `volume_error` | sum(m / rho) / (N m / rho0) - 1: the fluid's volume change through compression. Under isph, where sum(m / rho) is constant by construction, the area the particles cover ([`covered_area`]) over N dx^2, minus 1 (drop scenes; the closed channel keeps sum(m / rho)) |
+//! | `volume_error` | sum(m / rho) / (N m / rho0) - 1: the fluid's volume change through compression. Under isph, where sum(m / rho) is constant by construction, the area the particles cover ([`covered_area`]) over N dx^2, minus 1 (drop scenes; the closed channel keeps sum(m / rho)); in 3D the covered volume ([`covered_volume`]) over N dx^3, minus 1 |
 //! | `max_conformation_trace` | max tr(A) over fluid particles; 0 for models without a conformation tensor |
 //! | `min_conformation_det` | min det(A) over fluid particles (> 0 while A is positive definite); 1 without a tensor |
 //! | `time_step` | the last full time step taken |
@@ -468,6 +468,90 @@ pub fn covered_area(x: &[Vec2], dx: f64, plate: Option<&Plate>) -> f64 {
         }
     }
     eroded.iter().filter(|&&c| c).count() as f64 * cell * cell
+}
+
+/// Raster cells per particle spacing of [`covered_volume`].
+pub const VOLUME_CELLS_PER_DX: f64 = 4.0;
+
+/// The volume the particles `x` cover in 3D, the counterpart of [`covered_area`]: the
+/// morphological closing of the positions on a raster of dx / 4 cells (global axes), the points
+/// within dx of a particle eroded by dx / 2. A cubic lattice of spacing dx covers dx^3 per
+/// particle inside; the cut-lattice sphere of the drop reads +2.9 %, +2.5 %, +1.4 % over N dx^3
+/// at 10, 16, 30 particles per diameter (the closing rounds its staircase), the same sphere with
+/// every particle displaced at random by up to 0.1-0.3 dx per component reads -1.3 % to +0.7 %,
+/// 0.0 to +0.4 %, +0.1 to +0.2 % (disorder, not compression: the raster's own scatter). NaN
+/// above 2 x 10^8 cells.
+pub fn covered_volume(x: &[Vector<3>], dx: f64) -> f64 {
+    if x.is_empty() {
+        return 0.0;
+    }
+    let cell = dx / VOLUME_CELLS_PER_DX;
+    let (r_dil, r_ero) = (dx, 0.5 * dx);
+    let pad = r_dil + 3.0 * cell;
+    let mut lo = [f64::MAX; 3];
+    let mut hi = [f64::MIN; 3];
+    for p in x {
+        for a in 0..3 {
+            lo[a] = lo[a].min(p[a] - pad);
+            hi[a] = hi[a].max(p[a] + pad);
+        }
+    }
+    let n: [usize; 3] = std::array::from_fn(|a| ((hi[a] - lo[a]) / cell).ceil() as usize + 1);
+    if n[0].saturating_mul(n[1]).saturating_mul(n[2]) > 200_000_000 {
+        return f64::NAN;
+    }
+    let idx = |i: usize, j: usize, k: usize| (k * n[1] + j) * n[0] + i;
+    let centre = |a: usize, i: i64| lo[a] + (i as f64 + 0.5) * cell;
+    // Sets every cell whose centre is within r of p to `value`.
+    let stamp = |cells: &mut Vec<bool>, p: [f64; 3], r: f64, value: bool| {
+        let rc = (r / cell).ceil() as i64 + 1;
+        let c: [i64; 3] = std::array::from_fn(|a| ((p[a] - lo[a]) / cell) as i64);
+        let range = |a: usize| (c[a] - rc).max(0)..=(c[a] + rc).min(n[a] as i64 - 1);
+        for k in range(2) {
+            let dz = centre(2, k) - p[2];
+            for j in range(1) {
+                let dy = centre(1, j) - p[1];
+                for i in range(0) {
+                    let dxx = centre(0, i) - p[0];
+                    if dxx * dxx + dy * dy + dz * dz <= r * r {
+                        cells[idx(i as usize, j as usize, k as usize)] = value;
+                    }
+                }
+            }
+        }
+    };
+    let mut covered = vec![false; n[0] * n[1] * n[2]];
+    for p in x {
+        stamp(&mut covered, [p[0], p[1], p[2]], r_dil, true);
+    }
+    // Erosion: every uncovered cell next to a covered one clears the cells within r_ero of it.
+    let mut eroded = covered.clone();
+    for k in 1..n[2] - 1 {
+        for j in 1..n[1] - 1 {
+            for i in 1..n[0] - 1 {
+                if covered[idx(i, j, k)] {
+                    continue;
+                }
+                let next = [
+                    idx(i - 1, j, k),
+                    idx(i + 1, j, k),
+                    idx(i, j - 1, k),
+                    idx(i, j + 1, k),
+                    idx(i, j, k - 1),
+                    idx(i, j, k + 1),
+                ];
+                if next.iter().any(|&m| covered[m]) {
+                    let p = [
+                        centre(0, i as i64),
+                        centre(1, j as i64),
+                        centre(2, k as i64),
+                    ];
+                    stamp(&mut eroded, p, r_ero, false);
+                }
+            }
+        }
+    }
+    eroded.iter().filter(|&&c| c).count() as f64 * cell * cell * cell
 }
 
 /// Pressure roughness of a fluid state: the RMS over fluid particles of p_i minus its

@@ -224,6 +224,10 @@ pub struct HalfLattice {
     reach: f64,
     /// R(y) at `TABLE + 1` points on [0, reach].
     line: Vec<f64>,
+    /// The row's second moment `M(y) = (1/2) int rho^2 W(sqrt(rho^2 + y^2)) dA` (2D: over the
+    /// line) at the same points: the concentration a curved surface removes per unit of its
+    /// mean curvature ([`HalfLattice::curved_share`]).
+    moment: Vec<f64>,
 }
 
 impl HalfLattice {
@@ -248,7 +252,22 @@ impl HalfLattice {
                 sum * hs / 3.0
             })
             .collect();
-        Self { dx, reach, line }
+        let moment = (0..=Self::TABLE)
+            .map(|k| {
+                let y = reach * k as f64 / Self::TABLE as f64;
+                let sum = Self::simpson(|q| {
+                    let s = -reach + q as f64 * hs;
+                    0.5 * s * s * kernel.w((s * s + y * y).sqrt())
+                });
+                sum * hs / 3.0
+            })
+            .collect();
+        Self {
+            dx,
+            reach,
+            line,
+            moment,
+        }
     }
 
     /// The 3D table: plane integrals by Simpson's rule in the radius.
@@ -265,7 +284,22 @@ impl HalfLattice {
                 2.0 * std::f64::consts::PI * sum * hs / 3.0
             })
             .collect();
-        Self { dx, reach, line }
+        let moment = (0..=Self::TABLE)
+            .map(|k| {
+                let y = reach * k as f64 / Self::TABLE as f64;
+                let sum = Self::simpson(|q| {
+                    let s = q as f64 * hs;
+                    s * s * s * kernel.w((s * s + y * y).sqrt())
+                });
+                std::f64::consts::PI * sum * hs / 3.0
+            })
+            .collect();
+        Self {
+            dx,
+            reach,
+            line,
+            moment,
+        }
     }
 
     /// Simpson's weighted sum of `f(q)` over the points q = 0..=QUAD (times h / 3: the
@@ -286,14 +320,40 @@ impl HalfLattice {
     }
 
     fn line_sum(&self, y: f64) -> f64 {
+        Self::interpolate(&self.line, y, self.reach)
+    }
+
+    fn interpolate(table: &[f64], y: f64, reach: f64) -> f64 {
         let y = y.abs();
-        if y >= self.reach {
+        if y >= reach {
             return 0.0;
         }
-        let t = y / self.reach * Self::TABLE as f64;
+        let t = y / reach * Self::TABLE as f64;
         let k = (t as usize).min(Self::TABLE - 1);
         let f = t - k as f64;
-        self.line[k] * (1.0 - f) + self.line[k + 1] * f
+        table[k] * (1.0 - f) + table[k + 1] * f
+    }
+
+    /// [`HalfLattice::share`] below a surface of mean curvature `curvature` (the mean of the
+    /// principal curvatures, positive where the fluid is convex; in 2D the curvature of the
+    /// line): the fluid between the tangent plane and the surface, `curvature rho^2 / 2` thick at
+    /// lateral distance rho, is missing from the share, i.e. `curvature M(s) / (dx sum_k R)` with
+    /// the surface `s = a + dx / 2` above the particle (its row's own layer). At least half the
+    /// flat share.
+    pub fn curved_share(&self, a: f64, curvature: f64) -> f64 {
+        let flat = self.share(a);
+        let a = a.max(0.0);
+        if a >= self.reach {
+            return flat;
+        }
+        let kmax = ((a + self.reach) / self.dx).ceil() as i64;
+        let kmin = -(((self.reach - a) / self.dx).ceil() as i64);
+        let all: f64 = (kmin..=kmax)
+            .map(|k| self.line_sum(a - k as f64 * self.dx))
+            .sum();
+        let missing = curvature * Self::interpolate(&self.moment, a + 0.5 * self.dx, self.reach)
+            / (self.dx * all);
+        (flat - missing).max(0.5 * flat)
     }
 
     /// The share at distance `a` inside the last row (1 from the kernel's reach on).
@@ -313,6 +373,78 @@ impl HalfLattice {
             }
         }
         part / all
+    }
+}
+
+/// Mean curvature (the mean of the principal curvatures; in 2D the curvature) of the free
+/// surface at each free-surface particle, positive where the fluid is convex, from the heights of
+/// its surface neighbours below its tangent plane: a surface `z = -(k1 x^2 + k2 y^2) / 2` puts
+/// neighbour j at `d_j = -n . x_ji` below the plane at lateral distance `rho_j`, and
+/// `2 sum_j W d_j / sum_j W rho_j^2` is `(k1 + k2) / 2` for neighbours spread evenly about the
+/// normal (`k` in 2D). Zero off the surface and where no surface neighbour has a lateral
+/// distance.
+pub fn mean_curvature<const N: usize, K: Kernel<N>>(
+    x: &[Vector<N>],
+    nl: &NeighborList,
+    domain: &Domain,
+    surface: &Surface<N>,
+    kernel: &K,
+) -> Vec<f64> {
+    let n = surface.is_surface.len();
+    (0..n)
+        .into_par_iter()
+        .map(|i| {
+            let ni = surface.normal[i];
+            if !surface.is_surface[i] || ni == Vector::<N>::zeros() {
+                return 0.0;
+            }
+            let (mut num, mut den) = (0.0, 0.0);
+            for &j in nl.of(i) {
+                let j = j as usize;
+                if j >= n || j == i || !surface.is_surface[j] {
+                    continue;
+                }
+                let xji = domain.delta(&x[j], &x[i]);
+                let w = kernel.w(xji.norm());
+                let along = xji.dot(&ni);
+                num += w * -along;
+                den += w * (xji.norm_squared() - along * along);
+            }
+            if den > 0.0 {
+                2.0 * num / den
+            } else {
+                0.0
+            }
+        })
+        .collect()
+}
+
+/// The kernel-weighted mean of the surface neighbours' `curvature` ([`mean_curvature`]) at
+/// fluid particle `i` (0 without one): the curvature of the surface row above a near-surface
+/// particle.
+pub fn row_curvature<const N: usize, K: Kernel<N>>(
+    i: usize,
+    x: &[Vector<N>],
+    nl: &NeighborList,
+    domain: &Domain,
+    surface: &Surface<N>,
+    curvature: &[f64],
+    kernel: &K,
+) -> f64 {
+    let n = surface.is_surface.len();
+    let (mut sw, mut sk) = (0.0, 0.0);
+    for &j in nl.of(i) {
+        let j = j as usize;
+        if j < n && j != i && surface.is_surface[j] {
+            let w = kernel.w(domain.delta(&x[j], &x[i]).norm());
+            sw += w;
+            sk += w * curvature[j];
+        }
+    }
+    if sw > 0.0 {
+        sk / sw
+    } else {
+        0.0
     }
 }
 

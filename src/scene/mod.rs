@@ -193,10 +193,20 @@ pub trait Scene: Send + Sync {
 
     /// The outputs of a 3D state: the shared ones (per-depth outputs 0, the `_total` ones in
     /// newtons and joules, `drop_width_transverse` across the plate); the scene's own groups
-    /// hold 0 unless the scene measures them in 3D.
+    /// hold 0 unless the scene measures them in 3D. Under the incompressible scheme, with a free
+    /// surface,
+    /// `volume_error` is the covered volume's ([`crate::diagnostics::covered_volume`]) over
+    /// N dx^3, as the covered area in 2D.
     fn outputs_3d(&self, st: &State<3>, cfg: &SceneConfig) -> Outputs {
+        let mut shared = SharedOutputs::compute(st, cfg.dx(), cfg.fluid.density);
+        if cfg.scheme.is_incompressible() && self.has_free_surface() && !st.fluid.is_empty() {
+            let dx = cfg.dx();
+            shared.volume_error = crate::diagnostics::covered_volume(&st.fluid.x, dx)
+                / (st.fluid.len() as f64 * dx * dx * dx)
+                - 1.0;
+        }
         Outputs {
-            shared: SharedOutputs::compute(st, cfg.dx(), cfg.fluid.density),
+            shared,
             ..Default::default()
         }
     }
