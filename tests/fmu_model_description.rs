@@ -235,7 +235,7 @@ fn every_variable_matches_the_tables() {
             .filter(|p| matches!(p.kind, Kind::Enumeration { .. }))
             .count()
     );
-    assert_eq!(twins, 12);
+    assert_eq!(twins, 13);
 
     let ms = child(root, "ModelStructure");
     for list in ["Outputs", "InitialUnknowns"] {

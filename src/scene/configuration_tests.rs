@@ -186,7 +186,8 @@ fn string_twins_set_the_enumeration_by_name() {
             "isph_viscous_step_name",
             "isph_free_surface_name",
             "wall_boundary_name",
-            "plate_coupling_name"
+            "plate_coupling_name",
+            "drop_shape_name",
         ]
     );
     assert!(name_variable("plate_inclination_name").is_none());

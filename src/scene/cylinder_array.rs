@@ -7,8 +7,10 @@
 //!
 //! Walls: the two straight walls (wall 0 at the bottom, wall 1 at the top) and the circle
 //! (wall 2). Under `wall_boundary = auto` ISPH puts mirror particles on all three and the
-//! weakly compressible schemes dummy particles (Adami et al. 2012) on all three; `image`
-//! (WCSPH) or `ghost` (PDRI) puts their paper's particles on the straight walls instead. Those
+//! weakly compressible schemes dummy particles (Adami et al. 2012) on all three; with
+//! `cylinder_background_pressure = 0` auto keeps their paper's particles (WCSPH's image, PDRI's
+//! ghost) on the straight walls and dummy particles on the cylinder (`image` and `ghost` asked
+//! for by name are refused: they cannot be built along the circle). The papers' particles
 //! let particles through the walls downstream of the gaps between cylinder and walls: at 8
 //! across, Newtonian, WCSPH broke down at t = 3.48 s (a particle at -30 % density next to the
 //! wall) and PDRI at t = 2.65 s (a particle through the wall; 2.05 s with the background
@@ -403,8 +405,8 @@ impl Scene for CylinderArray {
         speed_bound(cfg).max(1e-12)
     }
 
-    /// `cylinder_background_pressure` times the pressure scale rho g L H / (2R) (see
-    /// [`pressure_scale`]).
+    /// `cylinder_background_pressure` times the pressure scale rho g L H / (2R), the pressure
+    /// difference the body force sets up across the cylinder.
     fn background_pressure(&self, cfg: &SceneConfig) -> f64 {
         cfg.cylinder_array.cylinder_background_pressure * pressure_scale(cfg)
     }
@@ -447,11 +449,18 @@ impl Scene for CylinderArray {
     }
 
     /// Gravity and Monaghan's artificial viscosity off, as in the channel; under the weakly
-    /// compressible schemes `wall_boundary = auto` means dummy particles on all three walls
-    /// (module documentation, "Walls").
+    /// compressible schemes with the background pressure on (the default) `wall_boundary =
+    /// auto` means dummy particles on all three walls (module documentation, "Walls"). With
+    /// `cylinder_background_pressure = 0` auto keeps the papers' particles on the straight walls
+    /// and dummy particles on the cylinder: the cell is then steady by t = 0.6 s at 8 across but
+    /// breaks down later (WCSPH at 3.5 s, PDRI at 2.7 s), while dummy walls without the
+    /// background pressure tear PDRI's fluid at once (holes at t = 0.045 s).
     fn effective_config(&self, cfg: &SceneConfig) -> SceneConfig {
         let mut e = super::channel::body_force_driven(cfg);
-        if e.numerics.wall_boundary == WallBoundary::Auto && !e.scheme.is_incompressible() {
+        if e.numerics.wall_boundary == WallBoundary::Auto
+            && !e.scheme.is_incompressible()
+            && e.cylinder_array.cylinder_background_pressure > 0.0
+        {
             e.numerics.wall_boundary = WallBoundary::Dummy;
         }
         e

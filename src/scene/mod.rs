@@ -99,7 +99,7 @@ pub trait Scene: Send + Sync {
         IsphFreeSurface::ZeroPressure
     }
 
-    /// Background pressure of the weakly compressible schemes [Pa], added to the equation of
+    /// Background pressure of the weakly compressible schemes \[Pa\], added to the equation of
     /// state's pressure: a closed domain's pressure is fixed only up to a constant, and a
     /// constant that keeps the pressure positive keeps the fluid out of tension, where SPH's
     /// particles clump (the tensile instability) and walls pull them in. 0 (the default) for

@@ -15,7 +15,7 @@ use crate::neighbors::Domain;
 pub struct Params<const N: usize = 2> {
     /// Equation of state (reference density and sound speed).
     pub eos: Eos,
-    /// Background pressure added to the equation of state's pressure [Pa]: the scene's
+    /// Background pressure added to the equation of state's pressure \[Pa\]: the scene's
     /// ([`crate::scene::Scene::background_pressure`]); 0 for a free surface.
     pub background_pressure: f64,
     /// Monaghan's artificial viscosity alpha and beta (Fang 2006 eq. 31).
