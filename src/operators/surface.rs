@@ -431,21 +431,8 @@ pub fn row_curvature<const N: usize, K: Kernel<N>>(
     curvature: &[f64],
     kernel: &K,
 ) -> f64 {
-    let n = surface.is_surface.len();
-    let (mut sw, mut sk) = (0.0, 0.0);
-    for &j in nl.of(i) {
-        let j = j as usize;
-        if j < n && j != i && surface.is_surface[j] {
-            let w = kernel.w(domain.delta(&x[j], &x[i]).norm());
-            sw += w;
-            sk += w * curvature[j];
-        }
-    }
-    if sw > 0.0 {
-        sk / sw
-    } else {
-        0.0
-    }
+    surface_neighbour_mean(i, x, nl, domain, surface, kernel, |j, _| Some(curvature[j]))
+        .unwrap_or(0.0)
 }
 
 /// Distance of fluid particle `i` from the free-surface row along the outward normal: the
@@ -460,18 +447,39 @@ pub fn row_distance<const N: usize, K: Kernel<N>>(
     surface: &Surface<N>,
     kernel: &K,
 ) -> Option<f64> {
+    let normal = &surface.normal;
+    surface_neighbour_mean(i, x, nl, domain, surface, kernel, |j, xji| {
+        (normal[j] != Vector::<N>::zeros()).then(|| xji.dot(&normal[j]))
+    })
+    .map(|a| a.max(0.0))
+}
+
+/// The kernel-weighted mean over the free-surface neighbours j of fluid particle `i` of
+/// `value(j, x_j - x_i)`, skipping the neighbours for which it is None (None when none is left):
+/// the one loop of [`row_curvature`] and [`row_distance`].
+fn surface_neighbour_mean<const N: usize, K: Kernel<N>>(
+    i: usize,
+    x: &[Vector<N>],
+    nl: &NeighborList,
+    domain: &Domain,
+    surface: &Surface<N>,
+    kernel: &K,
+    value: impl Fn(usize, &Vector<N>) -> Option<f64>,
+) -> Option<f64> {
     let n = surface.is_surface.len();
     let (mut sw, mut sa) = (0.0, 0.0);
     for &j in nl.of(i) {
         let j = j as usize;
-        if j < n && j != i && surface.is_surface[j] && surface.normal[j] != Vector::<N>::zeros() {
+        if j < n && j != i && surface.is_surface[j] {
             let xji = domain.delta(&x[j], &x[i]);
-            let w = kernel.w(xji.norm());
-            sw += w;
-            sa += w * xji.dot(&surface.normal[j]);
+            if let Some(v) = value(j, &xji) {
+                let w = kernel.w(xji.norm());
+                sw += w;
+                sa += w * v;
+            }
         }
     }
-    (sw > 0.0).then(|| (sa / sw).max(0.0))
+    (sw > 0.0).then(|| sa / sw)
 }
 
 #[cfg(test)]

@@ -238,24 +238,7 @@ impl Scene for Channel {
     /// The 2D outputs' definitions over the 3D box: the flow rate per unit depth across
     /// (sum V u_x / (L L_y)), the wall shear stress over both walls' area 2 L L_y.
     fn outputs_3d(&self, st: &State<3>, cfg: &SceneConfig) -> Outputs {
-        let fl = &st.fluid;
-        let (h, l, dx) = (cfg.channel.channel_width, period(cfg), cfg.dx());
-        let area = l * period_across(cfg);
-        let flow: f64 =
-            fl.v.iter()
-                .zip(&fl.rho)
-                .map(|(v, r)| fl.mass / r * v.x)
-                .sum::<f64>()
-                / area;
-        Outputs {
-            shared: health_outputs(st, cfg),
-            channel: ChannelOutputs {
-                centreline_velocity: centreline_velocity(fl, h, dx),
-                flow_rate: flow,
-                wall_shear_stress: st.wall_force.x / (2.0 * area),
-            },
-            ..Default::default()
-        }
+        channel_outputs(st, cfg, period(cfg) * period_across(cfg))
     }
 
     fn domain_radius(&self, cfg: &SceneConfig) -> f64 {
@@ -280,23 +263,7 @@ impl Scene for Channel {
     /// walls carry the force) and the channel's own three. The volume error is sum(m / rho)'s
     /// under every scheme: the closed channel keeps it.
     fn outputs(&self, st: &State, cfg: &SceneConfig) -> Outputs {
-        let fl = &st.fluid;
-        let (h, l, dx) = (cfg.channel.channel_width, period(cfg), cfg.dx());
-        let flow: f64 =
-            fl.v.iter()
-                .zip(&fl.rho)
-                .map(|(v, r)| fl.mass / r * v.x)
-                .sum::<f64>()
-                / l;
-        Outputs {
-            shared: health_outputs(st, cfg),
-            channel: ChannelOutputs {
-                centreline_velocity: centreline_velocity(fl, h, dx),
-                flow_rate: flow,
-                wall_shear_stress: st.wall_force.x / (2.0 * l),
-            },
-            ..Default::default()
-        }
+        channel_outputs(st, cfg, period(cfg))
     }
 
     /// The centre-line velocity over the steady Newtonian one, U = rho g H^2 / (8 eta0), and
@@ -417,6 +384,31 @@ pub fn body_force_driven(cfg: &SceneConfig) -> SceneConfig {
     e.numerics.artificial_viscosity_alpha = 0.0;
     e.numerics.artificial_viscosity_beta = 0.0;
     e
+}
+
+/// The channel's outputs in N dimensions over a wall of `area` (2D: the period L, per unit
+/// depth; 3D: L times the period across): the flow rate sum V u_x / area, the wall shear stress
+/// over both walls, 2 area, and the centre-line velocity.
+fn channel_outputs<const N: usize>(st: &State<N>, cfg: &SceneConfig, area: f64) -> Outputs
+where
+    nalgebra::Const<N>: nalgebra::DimMin<nalgebra::Const<N>, Output = nalgebra::Const<N>>,
+{
+    let fl = &st.fluid;
+    let flow: f64 =
+        fl.v.iter()
+            .zip(&fl.rho)
+            .map(|(v, r)| fl.mass / r * v[0])
+            .sum::<f64>()
+            / area;
+    Outputs {
+        shared: health_outputs(st, cfg),
+        channel: ChannelOutputs {
+            centreline_velocity: centreline_velocity(fl, cfg.channel.channel_width, cfg.dx()),
+            flow_rate: flow,
+            wall_shear_stress: st.wall_force[0] / (2.0 * area),
+        },
+        ..Default::default()
+    }
 }
 
 /// The health figures of the shared outputs only (a closed cell has no drop extents, and no
