@@ -21,6 +21,9 @@ import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
+# Files of a run kept beside its time series when the run writes them (read through
+# `Case.kept[label]`): the cylinder array's time-averaged centre line.
+KEPT_FILES = ("centreline.csv",)
 
 
 def binary():
@@ -62,6 +65,7 @@ class Case:
         self.out.mkdir(parents=True, exist_ok=True)
         self.work = Path(tempfile.mkdtemp(prefix=f"viscosph-{self.name}-"))
         self.rows = []  # (key, description, value, format)
+        self.kept = {}  # label -> the directory that keeps the run's files (see `run`)
 
     def run(self, scene, label, overrides=None, t_end=None, interval=None):
         """Run a scene file of the case with some keys replaced; returns (series, stdout).
@@ -86,6 +90,7 @@ class Case:
         # running again (to redraw against a new reference: the binary is not part of the key).
         key = hashlib.sha1((text + repr(cmd[5:])).encode()).hexdigest()[:12]
         kept = ROOT / "target" / "validation" / "runs" / self.name / f"{label}-{key}"
+        self.kept[label] = kept
         if os.environ.get("VALIDATION_REUSE") == "1" and (kept / "timeseries.csv").exists():
             return (read_series(kept / "timeseries.csv"),
                     (kept / "stdout.txt").read_text())
@@ -94,7 +99,9 @@ class Case:
             sys.exit(f"{self.name}/{label}: viscosph run failed ({r.returncode}):\n"
                      f"{r.stdout}{r.stderr}")
         kept.mkdir(parents=True, exist_ok=True)
-        shutil.copy(run_dir / "timeseries.csv", kept / "timeseries.csv")
+        for name in ("timeseries.csv", *KEPT_FILES):
+            if (run_dir / name).exists():
+                shutil.copy(run_dir / name, kept / name)
         (kept / "stdout.txt").write_text(r.stdout)
         return read_series(run_dir / "timeseries.csv"), r.stdout
 
