@@ -523,3 +523,66 @@ fn fangs_oldroyd_b_sphere_under_isph_spreads_symmetrically_and_stretches_its_pol
     );
     assert!(sh.min_conformation_det > 0.0);
 }
+
+/// A sphere of fluid one spacing above a level plate and a film beside it: of the plate's whole
+/// dummy layout (the fluid's extent with three search radii to spare) exactly the particles
+/// within the search radius plus one kernel radius of some fluid particle are kept, in the
+/// layout's order. Those are all a fluid particle can reach before the next placement (it moves
+/// less than half the skin) and all a kept particle's own sums reach (its Shepard sums over the
+/// fluid within the search radius, Ren's wall Hessian over the virtual particles within one
+/// kernel radius), so the runs are bitwise those with the whole layout; most of the square
+/// layout is gone.
+#[test]
+fn a_plate_keeps_only_the_dummy_particles_the_fluid_can_reach() {
+    use viscosph::boundary::dummy::DummyWall;
+    use viscosph::boundary::plate::Plate;
+    use viscosph::boundary::wall::Wall;
+    use viscosph::boundary::Boundary;
+    use viscosph::dim::Vector;
+    use viscosph::kernel::{CubicSplineKernel, Kernel};
+    use viscosph::neighbors::{Domain, Grid};
+    let dx = 0.001;
+    let kernel = CubicSplineKernel::<3>::new(1.5 * dx);
+    let radius = kernel.radius() + 0.25 * kernel.h();
+    let mut fluid = Vec::new();
+    for a in -12..=12 {
+        for b in -12..=12 {
+            for c in -12..=12 {
+                let p = Vector::<3>::new(a as f64, b as f64, c as f64) * dx;
+                if p.norm() <= 10.0 * dx {
+                    fluid.push(p + Vector::<3>::new(0.0, 0.0, 11.5 * dx));
+                }
+            }
+            for c in 0..2 {
+                let q = Vector::<3>::new((30 + a) as f64, b as f64 * 0.3, c as f64 + 0.5);
+                fluid.push(q * dx);
+            }
+        }
+    }
+    let dom = Domain::OPEN;
+    let mut wall = Wall::from(Plate::through(
+        Vector::<3>::zeros(),
+        Vector::<3>::z(),
+        Vector::<3>::x(),
+        dx,
+    ));
+    let mut dummy = DummyWall::new(kernel, dom, dx, Vector::<3>::new(0.0, 0.0, -9.81));
+    let grid = Grid::build(&fluid, radius, &dom);
+    let mut out = Vec::new();
+    dummy.place(&mut wall, &fluid, &grid, radius, &mut out);
+    let all = dummy.layout(&wall);
+    let reach = radius + kernel.radius();
+    let expected: Vec<Vector<3>> = all
+        .iter()
+        .filter(|w| fluid.iter().any(|f| (*w - f).norm() < reach))
+        .copied()
+        .collect();
+    assert_eq!(out, expected);
+    assert_eq!(dummy.positions(&wall), expected);
+    assert!(
+        2 * out.len() < all.len(),
+        "{} of {} kept",
+        out.len(),
+        all.len()
+    );
+}

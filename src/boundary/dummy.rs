@@ -6,7 +6,13 @@
 //! inside a cylinder or outside a circular tank (at radii R -+ (k + 1/2) dx, each ring divided
 //! into the whole number of arcs nearest dx). They sit still in the wall's frame and take their
 //! values from the fluid around them by Shepard interpolation, so nothing about the wall's
-//! shape enters the values:
+//! shape enters the values. A plate's layout covers the fluid's extent with three search radii
+//! to spare; of it only the particles some fluid particle can reach before the next placement
+//! are kept (within the search radius plus one kernel radius of the fluid), which leaves every
+//! result bitwise the same: under a spread drop the plate's layout is a square around a round
+//! footprint, and before the impact the drop is far from all of it.
+//!
+//! The values:
 //! * velocity (eqs. 22-23): `u_w = 2 u_wall - sum_f u_f W_wf / sum_f W_wf`, so that the velocity
 //!   interpolated at the wall is the wall's (no slip);
 //! * stress (eq. 27, written for the total stress sigma = -p I + tau): `sigma_w = sum_f sigma_f
@@ -27,6 +33,11 @@ use crate::kernel::Kernel;
 use crate::neighbors::{Domain, Grid, NeighborList};
 use crate::particles::Fluid;
 use crate::Vec2;
+use rayon::prelude::*;
+
+/// Dummy particles per task of the parallel fills: each costs a Shepard sum over its fluid
+/// neighbours, a few hundred flops, so a task of this many outweighs its scheduling.
+const MIN_TASK: usize = 256;
 
 /// Where a dimension puts the dummy particles of a wall: `layers` layers at the spacing `dx`
 /// inside the solid. Along a plate the layers sit on the plate's columns (s = k dx) and, in 3D,
@@ -178,6 +189,10 @@ pub struct DummyWall<K: Kernel<N>, const N: usize = 2> {
     layers: usize,
     /// A plate's rows along its second tangent (3D), as of the last [`Boundary::place`].
     lateral: Lateral,
+    /// Which points of the whole layout were kept at the last [`Boundary::place`] (ascending
+    /// indices into [`DummyWall::layout`]): those a fluid particle can reach before the next
+    /// placement ([`DummyWall::keep_reachable`]).
+    kept: Vec<u32>,
     /// The positions placed at the last [`Boundary::place`].
     x: Vec<Vector<N>>,
     /// The wall's displacement along -n then: a plate that moved since carries its dummy
@@ -200,6 +215,7 @@ where
             gravity,
             layers,
             lateral: Lateral::default(),
+            kept: Vec::new(),
             x: Vec::new(),
             placed_at: 0.0,
             list: NeighborList::default(),
@@ -216,6 +232,48 @@ where
         out
     }
 
+    /// The points of the whole layout of `wall` kept at the last [`Boundary::place`].
+    fn kept_layout(&self, wall: &Wall<N>) -> Vec<Vector<N>> {
+        let all = self.layout(wall);
+        self.kept.iter().map(|&k| all[k as usize]).collect()
+    }
+
+    /// The indices of the points of `all` within `reach` of some fluid particle at `fluid_x`,
+    /// ascending. The others cannot act: a fluid particle moves less than half the skin
+    /// before the lists and the dummy particles are rebuilt, so it only ever sees a dummy
+    /// particle within the search radius of where it was at the placement, and a dummy particle's
+    /// own sums (its Shepard values over the fluid within the search radius; Ren's wall Hessian,
+    /// [`crate::operators::artificial`], over the virtual particles within one kernel radius)
+    /// reach no farther than the search radius plus one kernel radius. Dropping the rest leaves
+    /// every sum of the schemes the same term by term in the same order (the lists are sorted by
+    /// index and the kept points keep their order), so the results are bitwise those of the
+    /// whole layout; the whole layout covers the fluid with three search radii to spare, and
+    /// over a spreading drop most of it lies beyond that reach.
+    fn keep_reachable(
+        all: &[Vector<N>],
+        fluid_x: &[Vector<N>],
+        reach: f64,
+        dom: &Domain,
+    ) -> Vec<u32> {
+        if fluid_x.is_empty() {
+            return Vec::new();
+        }
+        let grid = Grid::build(fluid_x, reach, dom);
+        let reach2 = reach * reach;
+        all.par_iter()
+            .with_min_len(1024)
+            .enumerate()
+            .filter(|(_, xw)| {
+                let mut near = false;
+                grid.for_each_candidate(xw, |j| {
+                    near = near || dom.delta(xw, &fluid_x[j as usize]).norm_squared() < reach2;
+                });
+                near
+            })
+            .map(|(k, _)| k as u32)
+            .collect()
+    }
+
     /// Where `wall`'s dummy particles are now: as placed, or, on a plate that has moved since
     /// (the neighbour lists, built with a skin, stay valid meanwhile), laid out afresh from the
     /// plate's current pose, the same positions the fluid passes see
@@ -225,7 +283,7 @@ where
         if wall.displacement() == self.placed_at {
             std::borrow::Cow::Borrowed(&self.x)
         } else {
-            std::borrow::Cow::Owned(self.layout(wall))
+            std::borrow::Cow::Owned(self.kept_layout(wall))
         }
     }
 
@@ -271,7 +329,10 @@ where
             p.cover_points(fluid_x, 3.0 * radius);
         }
         self.lateral = Lateral::covering(wall, fluid_x, 3.0 * radius, self.dx, &self.domain);
-        self.x = self.layout(wall);
+        let all = self.layout(wall);
+        let reach = radius + self.kernel.radius();
+        self.kept = Self::keep_reachable(&all, fluid_x, reach, &self.domain);
+        self.x = self.kept.iter().map(|&k| all[k as usize]).collect();
         self.placed_at = wall.displacement();
         out.extend_from_slice(&self.x);
         self.list = NeighborList::build(fluid_grid, fluid_x, &self.x, radius, &self.domain);
@@ -279,11 +340,15 @@ where
 
     fn fill_velocities(&self, wall: &Wall<N>, fluid: &Fluid<N>, out: &mut [Vector<N>]) {
         let (uw, xs) = (wall.wall_velocity(), self.where_now(wall));
-        for (k, o) in out.iter_mut().enumerate() {
-            let mut su = Vector::zeros();
-            let sw = self.shepard(fluid, k, xs[k], |j, w, _| su += fluid.v[j] * w);
-            *o = if sw > 0.0 { 2.0 * uw - su / sw } else { uw };
-        }
+        // Each dummy particle on its own: on all threads, bitwise whatever their number.
+        out.par_iter_mut()
+            .with_min_len(MIN_TASK)
+            .enumerate()
+            .for_each(|(k, o)| {
+                let mut su = Vector::zeros();
+                let sw = self.shepard(fluid, k, xs[k], |j, w, _| su += fluid.v[j] * w);
+                *o = if sw > 0.0 { 2.0 * uw - su / sw } else { uw };
+            });
     }
 
     fn fill_stresses(
@@ -295,21 +360,24 @@ where
         out: &mut [Tensor<N>],
     ) {
         let xs = self.where_now(wall);
-        for (k, o) in out.iter_mut().enumerate() {
-            let (mut ss, mut sr) = (Tensor::zeros(), Vector::zeros());
-            let sw = self.shepard(fluid, k, xs[k], |j, w, rwf| {
-                ss += sigma[j] * w;
-                sr += rwf * (fluid.rho[j] * w);
+        out.par_iter_mut()
+            .with_min_len(MIN_TASK)
+            .enumerate()
+            .for_each(|(k, o)| {
+                let (mut ss, mut sr) = (Tensor::zeros(), Vector::zeros());
+                let sw = self.shepard(fluid, k, xs[k], |j, w, rwf| {
+                    ss += sigma[j] * w;
+                    sr += rwf * (fluid.rho[j] * w);
+                });
+                *o = if sw > 0.0 {
+                    (ss - Tensor::identity() * self.gravity.dot(&sr)) / sw
+                } else {
+                    Tensor::zeros()
+                };
             });
-            *o = if sw > 0.0 {
-                (ss - Tensor::identity() * self.gravity.dot(&sr)) / sw
-            } else {
-                Tensor::zeros()
-            };
-        }
     }
 
     fn positions(&self, wall: &Wall<N>) -> Vec<Vector<N>> {
-        self.layout(wall)
+        self.kept_layout(wall)
     }
 }

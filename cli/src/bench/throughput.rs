@@ -186,8 +186,8 @@ fn reset_peak_rss() -> Option<u64> {
     Some(kb * 1024)
 }
 
-/// The same Fang drops as a sphere (`dimension = 3`, dummy walls: three layers under a plate four
-/// diameters square) at about the same fluid particle counts as the 2D rows (10^3 and 10^4;
+/// The same Fang drops as a sphere (`dimension = 3`, dummy walls: three layers under the plate
+/// where the fluid can reach it) at about the same fluid particle counts as the 2D rows (10^3 and 10^4;
 /// 10^5 is not run: 3D at that size is `viscosph run`'s), 1 and 2 threads: CPU time per fluid
 /// particle-step against the 2D row of the same size, and the peak RSS per fluid particle
 /// (measured from a reset of the high-water mark, [`reset_peak_rss`]).
