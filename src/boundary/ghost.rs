@@ -228,8 +228,8 @@ impl<K: Kernel> Boundary for GhostWall<K> {
 /// the fluid this way \[kg m/s per m\] and the number of particles put back; `each(i, m)` is told
 /// the momentum m particle i received. The particles inside are found on all threads (rarely
 /// any: the test is the work); those are then put back one by one in particle order, so the sum
-/// is the same on any number of threads. Used by Fang's scheme (see [`crate::scheme::wcsph`])
-/// and the incompressible one.
+/// is the same on any number of threads. Used by Fang's scheme (see [`crate::scheme::wcsph`]),
+/// Ren's ([`crate::scheme::pdri`]) and the incompressible one.
 pub fn keep_out_of_wall<const N: usize>(
     fl: &mut Fluid<N>,
     wall: &Wall<N>,

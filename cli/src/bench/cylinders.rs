@@ -15,7 +15,8 @@
 //!   (King & Lind: resolved runs cost about Wi^5).
 //! * **Resolution sweep**: the Newtonian drag coefficient against the finite elements' 92.830
 //!   and the run's CPU time, ISPH at 8 to 24 particles across the diameter, WCSPH and PDRI at 8
-//!   and 16.
+//!   and 16; ISPH's Oldroyd-B K at lambda = 0.2 and 0.6 s against the finite elements' 89.066
+//!   and 81.924 at 12, 16 and 24 across.
 //! * **Figures** in the style of King & Lind's Figs. 9-11 from the averaged fields
 //!   (`scene::FieldAverage`): speed and tr A in the cell with the cylinder drawn, the
 //!   centre-line u/⟨u⟩ and tau_xx at Wi = 0.2, 0.6, 0.8 with the finite elements' Newtonian
@@ -54,6 +55,9 @@ const FEM_K: [(f64, f64); 3] = [
 const WI_SWEEP: [f64; 13] = [
     0.0, 0.2, 0.6, 0.8, 1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0,
 ];
+
+/// Particles across the diameter of the Oldroyd-B resolution sweep (ISPH).
+const ELASTIC_RESOLUTIONS: [i64; 3] = [12, 16, 24];
 
 /// The Wi of King & Lind's Fig. 10 profiles.
 const PROFILE_WI: [f64; 3] = [0.2, 0.6, 0.8];
@@ -282,6 +286,46 @@ pub fn bench_cylinders(out: &Path, quick: bool) -> BenchResult<String> {
                 r.result.wall_seconds,
                 r.cpu
             )?;
+        }
+    }
+    // Resolution, Oldroyd-B: ISPH's K at lambda = 0.2 and 0.6 s against the finite elements'
+    // (the sweep's runs at its resolution, more at 12 and 24 across).
+    if !quick {
+        if let (Some(s), Some((label, runs))) = (schemes.first(), sweeps.first()) {
+            md.push_str(
+                "
+### Resolution: the Oldroyd-B drag against the finite elements
+
+| scheme | lambda [s] | across | Wi = ⟨u⟩ lambda / R | ⟨u⟩ | ⟨u⟩ FEM | K | K FEM | error | CPU [s] |
+|---|---|---|---|---|---|---|---|---|---|
+",
+            );
+            for lambda in [0.2, 0.6] {
+                let mut res_runs: Vec<CellRun> = Vec::new();
+                for &n in ELASTIC_RESOLUTIONS.iter().filter(|&&n| n != s.across) {
+                    eprintln!("bench cylinders: {label} lambda = {lambda} at {n} across ...");
+                    let r = cell_run(&kl_cell(s, lambda, n), lambda, t_end)?;
+                    row(&mut String::new(), &mut csv, "resolution", label, &r)?;
+                    res_runs.push(r);
+                }
+                let own = runs.iter().find(|r| r.wi_asked == lambda);
+                let mut all: Vec<&CellRun> = res_runs.iter().chain(own).collect();
+                all.sort_by_key(|r| r.across);
+                let (fem_u, fem_k) = (at(&FEM_MEAN_VELOCITY, lambda), at(&FEM_K, lambda));
+                for r in all {
+                    let (u, k) = (r.mean_velocity(), r.k().unwrap_or(f64::NAN));
+                    let fk = fem_k.unwrap_or(f64::NAN);
+                    writeln!(
+                        md,
+                        "| {label} | {lambda} | {} | {:.3} | {u:.4} | {:.4} | {k:.3} | {fk:.3} | {:+.2} % | {:.1} |",
+                        r.across,
+                        u * lambda,
+                        fem_u.unwrap_or(f64::NAN),
+                        100.0 * (k / fk - 1.0),
+                        r.cpu
+                    )?;
+                }
+            }
         }
     }
     figures(out, &sweeps)?;
