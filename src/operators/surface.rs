@@ -237,31 +237,22 @@ impl HalfLattice {
 
     pub fn new<const N: usize, K: Kernel<N>>(kernel: &K, dx: f64) -> Self {
         let reach = kernel.radius();
-        if N == 3 {
-            return Self::planes(kernel, dx);
-        }
-        assert_eq!(N, 2, "a half lattice in 2D or 3D");
-        let hs = 2.0 * reach / Self::QUAD as f64;
-        let line = (0..=Self::TABLE)
-            .map(|k| {
-                let y = reach * k as f64 / Self::TABLE as f64;
-                let sum = Self::simpson(|q| {
-                    let s = -reach + q as f64 * hs;
-                    kernel.w((s * s + y * y).sqrt())
-                });
-                sum * hs / 3.0
-            })
-            .collect();
-        let moment = (0..=Self::TABLE)
-            .map(|k| {
-                let y = reach * k as f64 / Self::TABLE as f64;
-                let sum = Self::simpson(|q| {
-                    let s = -reach + q as f64 * hs;
-                    0.5 * s * s * kernel.w((s * s + y * y).sqrt())
-                });
-                sum * hs / 3.0
-            })
-            .collect();
+        let (line, moment) = if N == 3 {
+            // Plane integrals by Simpson's rule in the radius.
+            let hs = reach / Self::QUAD as f64;
+            let two_pi = 2.0 * std::f64::consts::PI;
+            (
+                Self::tabulate(kernel, 0.0, hs, two_pi, |s| s),
+                Self::tabulate(kernel, 0.0, hs, std::f64::consts::PI, |s| s * s * s),
+            )
+        } else {
+            assert_eq!(N, 2, "a half lattice in 2D or 3D");
+            let hs = 2.0 * reach / Self::QUAD as f64;
+            (
+                Self::tabulate(kernel, -reach, hs, 1.0, |_| 1.0),
+                Self::tabulate(kernel, -reach, hs, 1.0, |s| 0.5 * s * s),
+            )
+        };
         Self {
             dx,
             reach,
@@ -270,36 +261,26 @@ impl HalfLattice {
         }
     }
 
-    /// The 3D table: plane integrals by Simpson's rule in the radius.
-    fn planes<const N: usize, K: Kernel<N>>(kernel: &K, dx: f64) -> Self {
+    /// `scale int f(s) W(sqrt(s^2 + y^2)) ds` by Simpson's rule over s = `start` + q `hs`,
+    /// q = 0..=QUAD, at the `TABLE + 1` points y on [0, reach]: the tables of R and M.
+    fn tabulate<const N: usize, K: Kernel<N>>(
+        kernel: &K,
+        start: f64,
+        hs: f64,
+        scale: f64,
+        f: impl Fn(f64) -> f64,
+    ) -> Vec<f64> {
         let reach = kernel.radius();
-        let hs = reach / Self::QUAD as f64;
-        let line = (0..=Self::TABLE)
+        (0..=Self::TABLE)
             .map(|k| {
                 let y = reach * k as f64 / Self::TABLE as f64;
                 let sum = Self::simpson(|q| {
-                    let s = q as f64 * hs;
-                    s * kernel.w((s * s + y * y).sqrt())
+                    let s = start + q as f64 * hs;
+                    f(s) * kernel.w((s * s + y * y).sqrt())
                 });
-                2.0 * std::f64::consts::PI * sum * hs / 3.0
+                scale * sum * hs / 3.0
             })
-            .collect();
-        let moment = (0..=Self::TABLE)
-            .map(|k| {
-                let y = reach * k as f64 / Self::TABLE as f64;
-                let sum = Self::simpson(|q| {
-                    let s = q as f64 * hs;
-                    s * s * s * kernel.w((s * s + y * y).sqrt())
-                });
-                std::f64::consts::PI * sum * hs / 3.0
-            })
-            .collect();
-        Self {
-            dx,
-            reach,
-            line,
-            moment,
-        }
+            .collect()
     }
 
     /// Simpson's weighted sum of `f(q)` over the points q = 0..=QUAD (times h / 3: the
