@@ -28,6 +28,15 @@ fn laplacian(nl: &NeighborList, c: &[f64], phi: &dyn Fn(usize) -> f64, i: usize)
         .sum()
 }
 
+/// `f` run on a pool of `threads` threads.
+fn on_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(f)
+}
+
 fn all_options() -> [SolverOptions; 4] {
     [
         Preconditioner::Jacobi,
@@ -287,33 +296,29 @@ fn results_are_bitwise_independent_of_thread_count() {
     let dr = 0.05;
     let set = disc(40.0 * dr, dr, 0.15, 5);
     let run = |threads| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-            .install(|| {
-                let (nl, c) = coefs(&set);
-                let dir: Vec<Option<f64>> = set.x[..set.n_fluid]
-                    .iter()
-                    .map(|x| (x.norm() > 39.0 * dr).then_some(0.0))
-                    .collect();
-                let b: Vec<f64> = set.x[..set.n_fluid]
-                    .iter()
-                    .map(|x| (7.0 * x.x).sin() + x.y)
-                    .collect();
-                let sys = assemble_poisson(set.n_fluid, &nl, &c, &GhostLink::NONE, &dir, &b);
-                all_options()
-                    .iter()
-                    .map(|o| {
-                        let mut p = vec![0.0; set.n_fluid];
-                        let st = solve(&sys, &mut p, o).unwrap();
-                        (
-                            st.iterations,
-                            p.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
-                        )
-                    })
-                    .collect::<Vec<_>>()
-            })
+        on_threads(threads, || {
+            let (nl, c) = coefs(&set);
+            let dir: Vec<Option<f64>> = set.x[..set.n_fluid]
+                .iter()
+                .map(|x| (x.norm() > 39.0 * dr).then_some(0.0))
+                .collect();
+            let b: Vec<f64> = set.x[..set.n_fluid]
+                .iter()
+                .map(|x| (7.0 * x.x).sin() + x.y)
+                .collect();
+            let sys = assemble_poisson(set.n_fluid, &nl, &c, &GhostLink::NONE, &dir, &b);
+            all_options()
+                .iter()
+                .map(|o| {
+                    let mut p = vec![0.0; set.n_fluid];
+                    let st = solve(&sys, &mut p, o).unwrap();
+                    (
+                        st.iterations,
+                        p.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+                    )
+                })
+                .collect::<Vec<_>>()
+        })
     };
     assert!(set.n_fluid > 2 * DOT_CHUNK, "several reduction chunks");
     assert_eq!(run(1), run(2));
@@ -563,61 +568,46 @@ fn block_jacobi_solves_the_coupled_viscous_system_on_any_thread_count() {
     let set = disc(radius, dr, 0.15, 9);
     let n = set.n_fluid;
     let run = |threads: usize, p: Preconditioner| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-            .install(|| {
-                let (nl, c) = coefs(&set);
-                // A surface ring with an outward k, gradient weights c_ij (x_j - x_i).
-                let k: Vec<Vec2> = set.x[..n]
-                    .iter()
-                    .map(|x| {
-                        if x.norm() > radius - 3.0 * dr {
-                            x / x.norm() * (0.2 * dr)
-                        } else {
-                            Vec2::zeros()
-                        }
-                    })
-                    .collect();
-                let mut w = vec![Vec2::zeros(); nl.pairs()];
-                for i in 0..n {
-                    let off = nl.offset(i);
-                    for (kk, &j) in nl.of(i).iter().enumerate() {
-                        w[off + kk] = (set.x[j as usize] - set.x[i]) * (-c[off + kk]);
+        on_threads(threads, || {
+            let (nl, c) = coefs(&set);
+            // A surface ring with an outward k, gradient weights c_ij (x_j - x_i).
+            let k: Vec<Vec2> = set.x[..n]
+                .iter()
+                .map(|x| {
+                    if x.norm() > radius - 3.0 * dr {
+                        x / x.norm() * (0.2 * dr)
+                    } else {
+                        Vec2::zeros()
                     }
+                })
+                .collect();
+            let mut w = vec![Vec2::zeros(); nl.pairs()];
+            for i in 0..n {
+                let off = nl.offset(i);
+                for (kk, &j) in nl.of(i).iter().enumerate() {
+                    w[off + kk] = (set.x[j as usize] - set.x[i]) * (-c[off + kk]);
                 }
-                let surf = SurfaceTraction {
-                    k: &k,
-                    w: &w,
-                    along: 1.0,
-                    transposed: 1.0,
-                };
-                let rhs: Vec<Vec2> = set.x[..n]
-                    .iter()
-                    .map(|x| Vec2::new((5.0 * x.y).sin(), x.x * x.y))
-                    .collect();
-                let mut u = rhs.clone();
-                let opts = SolverOptions {
-                    preconditioner: p,
-                    ..Default::default()
-                };
-                let st = solve_viscous_coupled(
-                    n,
-                    &nl,
-                    &c,
-                    0.02,
-                    &[],
-                    &[],
-                    &[],
-                    &rhs,
-                    &mut u,
-                    &surf,
-                    &opts,
-                )
-                .unwrap();
-                (st, u)
-            })
+            }
+            let surf = SurfaceTraction {
+                k: &k,
+                w: &w,
+                along: 1.0,
+                transposed: 1.0,
+            };
+            let rhs: Vec<Vec2> = set.x[..n]
+                .iter()
+                .map(|x| Vec2::new((5.0 * x.y).sin(), x.x * x.y))
+                .collect();
+            let mut u = rhs.clone();
+            let opts = SolverOptions {
+                preconditioner: p,
+                ..Default::default()
+            };
+            let st =
+                solve_viscous_coupled(n, &nl, &c, 0.02, &[], &[], &[], &rhs, &mut u, &surf, &opts)
+                    .unwrap();
+            (st, u)
+        })
     };
     let (st_b, u_b) = run(1, Preconditioner::BlockJacobi(2));
     let (st_i, u_i) = run(1, Preconditioner::Ilu0);
