@@ -259,7 +259,10 @@ impl Factor {
 /// so the result does not depend on the thread count). A singular block is a zero pivot.
 fn block_inverses(a: &CsrMatrix, k: usize) -> Result<Vec<f64>, SolveError> {
     let n = a.n();
-    assert!(k > 0 && n % k == 0, "{n} rows are not blocks of {k}");
+    assert!(
+        k > 0 && n.is_multiple_of(k),
+        "{n} rows are not blocks of {k}"
+    );
     let mut inv = vec![0.0; n * k];
     let bad: Option<usize> = inv
         .par_chunks_mut(k * k)
