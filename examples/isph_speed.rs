@@ -2,8 +2,9 @@
 //! plate, U = 1 m/s, eta0 = 5 Pa s, rho = 1000 kg/m3, Re = 4) under ISPH: steps, wall and CPU
 //! time, PPE and viscous iterations per step, and the share of the step in each linear solve.
 //!
-//! `cargo run --release --example isph_speed -- RHEOLOGY W_OVER_DR [THREADS] [T_STAR_END]`
-//! (e.g. `newtonian 40 2 8`, `oldroyd_b 120 2 8`; Oldroyd-B at De = 1, beta = 0.1, the defaults).
+//! `cargo run --release --example isph_speed -- RHEOLOGY W_OVER_DR [THREADS] [T_STAR_END] [DIM]`
+//! (e.g. `newtonian 40 2 8`, `oldroyd_b 120 2 8`, the sphere `newtonian 20 1 8 3`; Oldroyd-B at
+//! De = 1, beta = 0.1, the defaults; DIM 2 or 3, default 2).
 //! Prints a progress line every t* = 1 (W* and the time so far) and a table row at the end. The
 //! run is `viscosph bench isph`'s, without its outputs every 0.05 t* (W* is read once per t*).
 
@@ -23,12 +24,24 @@ fn cpu_seconds() -> f64 {
     (get(11) + get(12)) / tick
 }
 
+/// Steps, the solvers' iterations and the particle count of a 2D or 3D run.
+fn counts(sim: &Simulation) -> (u64, [u64; 2], usize) {
+    match sim.state_3d() {
+        Some(st) => (st.step, st.solver_iterations, st.fluid.len()),
+        None => {
+            let st = sim.state();
+            (st.step, st.solver_iterations, st.fluid.len())
+        }
+    }
+}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let rheology = args.first().map_or("newtonian", |s| s.as_str());
     let ppd: i64 = args.get(1).map_or(Ok(40), |s| s.parse())?;
     let threads: i64 = args.get(2).map_or(Ok(2), |s| s.parse())?;
     let t_star_end: f64 = args.get(3).map_or(Ok(8.0), |s| s.parse())?;
+    let dimension: i64 = args.get(4).map_or(Ok(2), |s| s.parse())?;
     let mut cfg = SceneConfig::default();
     for (k, v) in [
         ("scheme", Value::Text("isph".into())),
@@ -37,6 +50,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ("initial_drop_height", Value::Real(0.02)),
         ("particles_per_diameter", Value::Integer(ppd)),
         ("threads", Value::Integer(threads)),
+        ("dimension", Value::Integer(dimension)),
     ] {
         cfg.set(k, v)?;
     }
@@ -53,30 +67,30 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             break;
         }
         let o = sim.outputs();
-        let st = sim.state();
+        let st = counts(&sim);
         eprintln!(
             "t* = {k:.1}: W* = {:.3}, {} steps, PPE iterations {}, viscous {}, {:.1} s, CPU {:.1} s",
             o.shared.drop_width / 0.02,
-            st.step,
-            st.solver_iterations[0],
-            st.solver_iterations[1],
+            st.0,
+            st.1[0],
+            st.1[1],
             t0.elapsed().as_secs_f64(),
             cpu_seconds() - c0
         );
     }
     let (wall, cpu) = (t0.elapsed().as_secs_f64(), cpu_seconds() - c0);
-    let st = sim.state();
-    let steps = st.step.max(1) as f64;
+    let st = counts(&sim);
+    let steps = st.0.max(1) as f64;
     let tm = sim.scheme_timings();
     let tot = tm.total.max(1e-12);
     println!("| rheology | W/dr | particles | threads | t* | steps | wall [s] | CPU [s] | PPE iterations/step | viscous iterations/step | time in PPE | time in viscous solve |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     println!(
         "| {rheology} | {ppd} | {} | {threads} | {k} | {} | {wall:.1} | {cpu:.1} | {:.1} | {:.1} | {:.0} % | {:.0} % |{}",
-        st.fluid.len(),
-        st.step,
-        st.solver_iterations[0] as f64 / steps,
-        st.solver_iterations[1] as f64 / steps,
+        st.2,
+        st.0,
+        st.1[0] as f64 / steps,
+        st.1[1] as f64 / steps,
         100.0 * tm.part("pressure solve") / tot,
         100.0 * tm.part("viscous solve") / tot,
         error.map(|e| format!(" broke down: {e}")).unwrap_or_default()

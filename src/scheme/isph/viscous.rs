@@ -102,6 +102,11 @@ where
             .map(|(w, c)| 2.0 * w + c)
             .collect();
         let mut u = rhs.clone();
+        // Block Jacobi in 3D, ILU(0) in 2D ([`ppe::Preconditioner::for_viscous`]).
+        let opts = |block: usize| ppe::SolverOptions {
+            preconditioner: ppe::Preconditioner::for_viscous(N, block),
+            ..self.solver
+        };
         // The plate's share by particle, at the solved velocities ([`super::plate_load`]).
         let mut plate_terms = Vec::new();
         if ctx.surf.is_some() {
@@ -144,7 +149,7 @@ where
                 &rhs,
                 &mut u,
                 &st_fs,
-                &self.solver,
+                &opts(N),
             )
             .map_err(|e| format!("implicit viscous step: {e}"))?;
             books.iterations[1] = stats.iterations as u64;
@@ -187,7 +192,7 @@ where
                 &offset,
                 &rhs,
                 &mut u,
-                &self.solver,
+                &opts(1),
             )
             .map_err(|e| format!("implicit viscous step: {e}"))?;
             books.iterations[1] = stats.iter().map(|s| s.iterations as u64).sum();

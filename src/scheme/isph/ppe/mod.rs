@@ -50,8 +50,10 @@
 //! The pressure takes [`Preconditioner::for_pressure`]: ILU(0) below [`AMG_MIN_ROWS`] rows,
 //! smoothed-aggregation AMG from there (its iterations stay at 5-9 where ILU(0)'s grow from 8
 //! to 58 between 1,300 and 80,000 rows in cold solves; [`Amg`]'s documentation has the measurements). The
-//! viscous systems keep ILU(0) (the default [`Preconditioner`]): they converge in 2-3
-//! iterations, where AMG's set-up does not pay.
+//! viscous systems take [`Preconditioner::for_viscous`]: ILU(0) in 2D (2-3 iterations, where
+//! AMG's set-up does not pay), block Jacobi in 3D (one `3 x 3` block per particle of the
+//! coupled system: ILU(0)'s factorisation of its ~750-entry rows was most of a 3D ISPH step,
+//! and block Jacobi has no sequential part).
 //!
 //! # Measured (`cargo run --release --example ppe_bench`, 2-core VM, 2 threads)
 //! Disc of particles on a square lattice (and the same lattice displaced by up to +/-0.15 dr),
