@@ -8,8 +8,8 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use viscosph::scene::elliptical_drop;
 use viscosph::SceneConfig;
-use viscosph_reference::analytic::falling_sheet;
 use viscosph_reference::analytic::waters_king::WatersKing;
+use viscosph_reference::analytic::{falling_sheet, falling_thread};
 
 #[derive(Subcommand, Debug)]
 pub enum ExactKind {
@@ -44,6 +44,13 @@ pub enum ExactKind {
     /// \[s\], its speed then \[m/s\] and its smallest width \[m\].
     FallingSheet {
         /// Scene file (TOML) of a jet.
+        scene: PathBuf,
+    },
+    /// The slender-thread model (Matovich & Pearson 1969) of a round jet's scene file: the
+    /// time its leading end reaches the plate \[s\], its speed then \[m/s\], its smallest
+    /// diameter \[m\] and the mass below the exit then \[kg\].
+    FallingThread {
+        /// Scene file (TOML) of a jet (its `jet_width` the nozzle's diameter).
         scene: PathBuf,
     },
 }
@@ -112,6 +119,17 @@ pub fn exact_csv(kind: &ExactKind) -> Result<String, Box<dyn std::error::Error>>
                 out,
                 "{:.9e},{:.9e},{:.9e}",
                 a.time, a.tip_speed, a.min_width
+            )?;
+        }
+        ExactKind::FallingThread { scene: path } => {
+            let cfg = scene(path)?;
+            let a = falling_thread::arrival(&cfg, falling_thread::ELEMENTS_PER_DIAMETER, 10.0)
+                .ok_or("the slender-thread model does not reach the plate within 10 s")?;
+            writeln!(out, "arrival_time,tip_speed,min_diameter,mass")?;
+            writeln!(
+                out,
+                "{:.9e},{:.9e},{:.9e},{:.9e}",
+                a.time, a.tip_speed, a.min_width, a.mass
             )?;
         }
     }

@@ -3,7 +3,7 @@
 
 use viscosph::scene::{Prediction, Predictions};
 use viscosph::SceneConfig;
-use viscosph_reference::analytic::falling_sheet;
+use viscosph_reference::analytic::{falling_sheet, falling_thread};
 
 /// The reference models the CLI has, by the quantity they predict.
 pub struct ReferenceModels;
@@ -11,7 +11,16 @@ pub struct ReferenceModels;
 impl Predictions for ReferenceModels {
     fn predict(&self, cfg: &SceneConfig, quantity: &str) -> Option<Prediction> {
         match quantity {
-            // When a falling jet reaches the plate: the slender-sheet model.
+            // When a falling jet reaches the plate: the slender-thread model for the round
+            // jet, the slender-sheet model for the planar one.
+            "arrival_time" if cfg.numerics.dimension == 3 => {
+                falling_thread::arrival(cfg, falling_thread::ELEMENTS_PER_DIAMETER, 10.0).map(|a| {
+                    Prediction {
+                        model: "slender-thread model",
+                        value: a.time,
+                    }
+                })
+            }
             "arrival_time" => falling_sheet::arrival(cfg, falling_sheet::ELEMENTS_PER_WIDTH, 10.0)
                 .map(|a| Prediction {
                     model: "slender-sheet model",

@@ -125,7 +125,7 @@ crate::params! {
     /// scheme reads it) and the thread pool.
     pub struct Numerics {
         dimension: i64 = integer(2, 2, 3), vr 70, unit "";
-            "Space dimensions: 2 (a planar flow, forces per unit depth) or 3 (forces in newtons): the drop as a sphere (or, drop_shape = slab, a slab periodic across) on a plane plate, the elliptical drop as a sphere and the channel between two planes, under every scheme (wcsph and pdri with dummy wall particles, isph with mirror particles); the other scenes refuse 3 by name",
+            "Space dimensions: 2 (a planar flow, forces per unit depth) or 3 (forces in newtons): the drop as a sphere (or, drop_shape = slab, a slab periodic across) on a plane plate, the elliptical drop as a sphere and the channel between two planes, under every scheme (wcsph and pdri with dummy wall particles, isph with mirror particles); the jet as a round jet through a circular nozzle of diameter jet_width (measured under wcsph and pdri); the other scenes refuse 3 by name",
         particles_per_diameter: i64 = integer(20, 4, 4000), vr 19, unit "";
             "Resolution: lattice spacing dx = drop_diameter / particles_per_diameter",
         sound_speed: f64 = real(0.0, 0.0, 1.0e5), vr 20, unit "m/s";

@@ -191,6 +191,9 @@ pub trait Scene: Send + Sync {
         None
     }
 
+    /// [`Scene::before_step`] for a 3D state (the round jet's inflow).
+    fn before_step_3d(&self, _cfg: &SceneConfig, _st: &mut State<3>) {}
+
     /// The outputs of a 3D state: the shared ones (per-depth outputs 0, the `_total` ones in
     /// newtons and joules, `drop_width_transverse` across the plate); the scene's own groups
     /// hold 0 unless the scene measures them in 3D. Under the incompressible scheme, with a free

@@ -36,7 +36,7 @@ pub trait Space<const N: usize> {
     ) -> Result<Box<dyn Scheme<N>>, SimError>;
     /// The outputs of a state.
     fn outputs(scene: &dyn Scene, st: &State<N>, eff: &SceneConfig) -> Outputs;
-    /// The scene's hook before every step (inflow: 2D only).
+    /// The scene's hook before every step (the jet's inflow).
     fn before_step(scene: &dyn Scene, eff: &SceneConfig, st: &mut State<N>);
     /// The wall model `auto` means on a straight wall in this dimension.
     fn paper_wall_model(eff: &SceneConfig) -> crate::boundary::Model;
@@ -98,7 +98,9 @@ impl Space<3> for Const<3> {
     fn outputs(scene: &dyn Scene, st: &State<3>, eff: &SceneConfig) -> Outputs {
         scene.outputs_3d(st, eff)
     }
-    fn before_step(_: &dyn Scene, _: &SceneConfig, _: &mut State<3>) {}
+    fn before_step(scene: &dyn Scene, eff: &SceneConfig, st: &mut State<3>) {
+        scene.before_step_3d(eff, st)
+    }
     /// Dummy particles, the one model of the weakly compressible schemes built for a plane;
     /// the incompressible scheme's own mirror particles (a reflection across any plane).
     fn paper_wall_model(eff: &SceneConfig) -> crate::boundary::Model {

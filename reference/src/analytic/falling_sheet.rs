@@ -35,24 +35,29 @@
 //! plate until it touches it. The SPH "contact" (first wall force: the head within a kernel
 //! support of the wall particles) comes a little (about 2 dx / v) before the model's arrival.
 
+use viscosph::dim::{Const, Dim, Tensor};
 use viscosph::rheology::{advance, AnyRheology, ConformationMethod, Rheology};
 use viscosph::scene::SceneConfig;
-use viscosph::Mat2;
 
 /// Elements per jet width that `viscosph run` and `viscosph bench jet` use: within 0.4 % of
 /// converged for King & Lind's jet, about 0.1 s to compute.
 pub const ELEMENTS_PER_WIDTH: usize = 10;
 
-/// What [`arrival`] found.
+/// What [`arrival`] (and the thread's [`super::falling_thread::arrival`]) found.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SheetArrival {
     /// Time at which the leading end has fallen the nozzle height \[s\].
     pub time: f64,
     /// Speed of the leading end then [m/s].
     pub tip_speed: f64,
-    /// Narrowest width of the sheet then \[m\] (as a fraction of D: how thin the column gets,
-    /// in particles across when multiplied by `particles_per_diameter`).
+    /// Narrowest width of the sheet (the thread: its narrowest diameter) then \[m\] (as a
+    /// fraction of D: how thin the column gets, in particles across when multiplied by
+    /// `particles_per_diameter`).
     pub min_width: f64,
+    /// Mass below the exit then: per unit depth for the sheet \[kg/m\], the thread's \[kg\].
+    /// Fluid enters at rho A0 U0 (A0 = D per unit depth, pi D^2 / 4 for the thread), so this is
+    /// rho A0 U0 `time` to within one element.
+    pub mass: f64,
 }
 
 /// The slender-sheet arrival time for the jet of `cfg` (`jet_width`, `jet_velocity`,
@@ -60,16 +65,45 @@ pub struct SheetArrival {
 /// width at the exit. None if the sheet has not arrived by `t_max` (no gravity and no exit
 /// speed, or a sheet held up) or its state stopped being finite.
 pub fn arrival(cfg: &SceneConfig, per_width: usize, t_max: f64) -> Option<SheetArrival> {
-    let model = AnyRheology::from_config(cfg).ok()?;
-    viscosph::dispatch_rheology!(&model, m => arrival_with(m, cfg, per_width, t_max))
+    slender_arrival::<2>(cfg, per_width, t_max)
 }
 
-fn arrival_with<R: Rheology>(
+/// The slender fall in N dimensions: the planar sheet (N = 2, cross-section the width per
+/// unit depth, planar extension diag(e, -e), Trouton ratio 4) or the axisymmetric thread
+/// (N = 3, cross-section the area, uniaxial extension diag(e, -e/2, -e/2), Trouton ratio 3):
+/// the same Lagrangian elements, only the cross-section and the extension differ.
+pub(crate) fn slender_arrival<const N: usize>(
+    cfg: &SceneConfig,
+    per_width: usize,
+    t_max: f64,
+) -> Option<SheetArrival>
+where
+    Const<N>: Dim,
+{
+    let model = AnyRheology::from_config(cfg).ok()?;
+    viscosph::dispatch_rheology!(&model, m => arrival_with::<N, _>(m, cfg, per_width, t_max))
+}
+
+/// The cross-section of a slender jet of width (diameter) d in N dimensions: d per unit depth
+/// for the sheet, pi d^2 / 4 for the thread; `inverse`: the width of a cross-section d.
+fn section<const N: usize>(d: f64, inverse: bool) -> f64 {
+    let quarter_pi = std::f64::consts::FRAC_PI_4;
+    match (N == 2, inverse) {
+        (true, _) => d,
+        (false, false) => quarter_pi * d * d,
+        (false, true) => (d / quarter_pi).sqrt(),
+    }
+}
+
+fn arrival_with<const N: usize, R: Rheology>(
     model: &R,
     cfg: &SceneConfig,
     per_width: usize,
     t_max: f64,
-) -> Option<SheetArrival> {
+) -> Option<SheetArrival>
+where
+    Const<N>: Dim,
+{
     let (rho, d, u0, g, h) = (
         cfg.fluid.density,
         cfg.jet.jet_width,
@@ -78,7 +112,7 @@ fn arrival_with<R: Rheology>(
         cfg.jet.nozzle_height,
     );
     let dx0 = d / per_width.max(1) as f64;
-    let dm = rho * d * dx0;
+    let dm = rho * section::<N>(d, false) * dx0;
     let mut dt = 0.5 * rho * dx0 * dx0 / (8.0 * model.max_viscosity().max(1e-12));
     if R::ELASTIC {
         dt = dt.min(model.relaxation_time() / 50.0);
@@ -91,8 +125,13 @@ fn arrival_with<R: Rheology>(
     let mut x: Vec<f64> = (0..=held).map(|k| -(k as f64) * dx0).collect();
     let mut v = vec![u0; x.len()];
     // The conformation tensor of each element.
-    let mut el = vec![model.rest_conformation(); held];
+    let mut el = vec![model.rest_conformation::<N>(); held];
     let mut tension = vec![0.0; el.len()];
+    // The extension along the axis at unit rate: the other N - 1 directions contract, sharing
+    // it (incompressible). The solvent's axial minus lateral stress is then
+    // 2 eta (1 + 1/(N - 1)) e: Trouton's 4 eta e (planar) and 3 eta e (uniaxial).
+    let lateral = -1.0 / (N as f64 - 1.0);
+    let trouton = 2.0 * (1.0 - lateral);
     let mut t = 0.0;
     while t < t_max {
         // Tension of each element (between node e below and e + 1 above).
@@ -101,8 +140,12 @@ fn arrival_with<R: Rheology>(
             let l = x[e] - x[e + 1];
             let w = dm / (rho * l);
             let rate = (v[e] - v[e + 1]) / l;
-            let kappa = Mat2::new(rate, 0.0, 0.0, -rate);
-            let mut s = 4.0 * model.solvent_viscosity(&kappa) * rate;
+            let kappa = Tensor::<N>::from_fn(|i, j| match (i, j) {
+                (0, 0) => rate,
+                (i, j) if i == j => lateral * rate,
+                _ => 0.0,
+            });
+            let mut s = trouton * model.solvent_viscosity(&kappa) * rate;
             if R::ELASTIC {
                 let tau = model.polymer_stress(a);
                 s += tau[(0, 0)] - tau[(1, 1)];
@@ -134,14 +177,23 @@ fn arrival_with<R: Rheology>(
             el.push(model.rest_conformation());
         }
         if x[0] >= h {
+            let below_exit = |e: usize| x[e + 1] > 0.0;
             let min_width = (0..el.len())
-                .filter(|&e| x[e + 1] > 0.0)
-                .map(|e| dm / (rho * (x[e] - x[e + 1])))
+                .filter(|&e| below_exit(e))
+                .map(|e| section::<N>(dm / (rho * (x[e] - x[e + 1])), true))
                 .fold(d, f64::min);
+            // Whole elements below the exit, and the part of the one straddling it.
+            let mass = (0..el.len())
+                .map(|e| {
+                    let (lo, hi) = (x[e], x[e + 1]);
+                    dm * ((lo.max(0.0) - hi.max(0.0)) / (lo - hi)).clamp(0.0, 1.0)
+                })
+                .sum();
             return Some(SheetArrival {
                 time: t,
                 tip_speed: v[0],
                 min_width,
+                mass,
             });
         }
     }
@@ -149,7 +201,7 @@ fn arrival_with<R: Rheology>(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use viscosph::config::RheologyKind;
     use viscosph::scene::SceneKind;
@@ -165,17 +217,24 @@ mod tests {
 
     #[test]
     fn an_inviscid_limit_falls_freely() {
-        // A nearly inviscid sheet falls like a point mass: H = U0 t + g t^2 / 2.
-        let c = {
-            let mut c = king_lind(RheologyKind::Newtonian, 0.0);
-            c.fluid.viscosity = 1e-6;
-            c
-        };
-        let a = arrival(&c, 10, 1.0).unwrap();
+        falls_freely(king_lind(RheologyKind::Newtonian, 0.0), |c| {
+            arrival(c, 10, 1.0).unwrap()
+        });
+    }
+
+    /// A nearly inviscid sheet or thread (King & Lind's jet `c` with eta = 1e-6 Pa s) falls
+    /// like a point mass: H = U0 t + g t^2 / 2. Returns the arrival.
+    pub(crate) fn falls_freely(
+        mut c: SceneConfig,
+        arrive: impl Fn(&SceneConfig) -> SheetArrival,
+    ) -> SheetArrival {
+        c.fluid.viscosity = 1e-6;
+        let a = arrive(&c);
         let (u0, g, h): (f64, f64, f64) = (0.2, 9.81, 0.072);
         let free = (-u0 + (u0 * u0 + 2.0 * g * h).sqrt()) / g;
         assert!((a.time - free).abs() < 1e-3 * free, "{} vs {free}", a.time);
         assert!((a.tip_speed - (u0 + g * free)).abs() < 1e-2, "{a:?}");
+        a
     }
 
     #[test]
@@ -187,11 +246,21 @@ mod tests {
         // Held back by 4 eta: about twice the free-fall time 0.1024 s.
         assert!(fine.time > 0.2 && fine.time < 0.25, "{fine:?}");
         assert!((coarse.time - fine.time).abs() < 0.005 * fine.time);
-        // The polymer resists only once stretched (over lambda): the higher Wi, the earlier
-        // and the thinner (King & Lind IV.D's trend).
-        let mut last = fine;
+        elasticity_speeds_the_fall(fine, |wi| {
+            arrival(&king_lind(RheologyKind::OldroydB, wi), 12, 1.0).unwrap()
+        });
+    }
+
+    /// The polymer resists only once stretched (over lambda): the higher Wi, the earlier and
+    /// the thinner, from the Newtonian fall `newtonian` on (King & Lind IV.D's trend), for the
+    /// Oldroyd-B falls `at(Wi)` of the sheet or the thread.
+    pub(crate) fn elasticity_speeds_the_fall(
+        newtonian: SheetArrival,
+        at: impl Fn(f64) -> SheetArrival,
+    ) {
+        let mut last = newtonian;
         for wi in [1.0 / 3.0, 5.0 / 3.0, 10.0 / 3.0, 20.0 / 3.0] {
-            let a = arrival(&king_lind(RheologyKind::OldroydB, wi), 12, 1.0).unwrap();
+            let a = at(wi);
             println!("Oldroyd-B Wi = {wi:.3}: {a:?}");
             assert!(
                 a.time < last.time && a.min_width < last.min_width,

@@ -18,6 +18,7 @@
 //! [`SceneConfig`]: viscosph::scene::SceneConfig
 
 pub mod falling_sheet;
+pub mod falling_thread;
 pub mod quadrature;
 pub mod steady_shear;
 pub mod waters_king;

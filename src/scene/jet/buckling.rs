@@ -85,8 +85,8 @@ pub fn buckling(series: &[(f64, Outputs)], d: f64) -> Buckling {
 }
 
 /// The line `viscosph run` prints about a jet: the mass injected, when the jet reached the plate
-/// (and when a model outside the solver says it does: the slender-sheet model's
-/// "arrival_time", if the caller has it), and how it buckled.
+/// (and when a model outside the solver says it does: the slender-sheet model's, or the
+/// round jet's slender-thread model's, "arrival_time", if the caller has it), and how it buckled.
 pub fn summary(
     cfg: &SceneConfig,
     series: &[(f64, Outputs)],
@@ -95,7 +95,8 @@ pub fn summary(
     let d = cfg.jet.jet_width;
     let b = buckling(series, d);
     let injected = series.last().map_or(0.0, |s| s.1.jet.injected_mass);
-    let mut text = format!("injected mass {injected:.4e} kg/m; ");
+    let unit = if cfg.numerics.dimension == 3 { "kg" } else { "kg/m" };
+    let mut text = format!("injected mass {injected:.4e} {unit}; ");
     let Some(impact) = b.impact else {
         text.push_str("the jet has not reached the plate");
         return text;

@@ -40,6 +40,20 @@
 //!
 //! [`buckling`] turns a record of `jet_deflection` into the onset time, frequency and amplitude
 //! of the buckling.
+//!
+//! **The round jet (`dimension = 3`).** The nozzle is the disc of diameter D = `jet_width` about
+//! the vertical (z) axis through the impact point, its exit at z = H; the plate the drop's
+//! ([`super::drop::plate_3d`], inclined about y, downhill towards +x). Each row is the
+//! [`disc_lattice`] (concentric rings, each particle standing for dx^2 of the disc) and every
+//! particle has the mass rho0 (pi D^2 / 4) dx / (particles per row), so that a row is
+//! rho0 pi D^2 / 4 dx and the inlet's mass flux rho0 (pi D^2 / 4) U0 whatever the lattice; the
+//! inflow is the 2D one otherwise (the same [`InflowLog`], phase and resets, the seed along x),
+//! and a particle is in the nozzle when it is above the exit within D/2 of the axis
+//! ([`Inflow::holds`](crate::state::Inflow::holds)). `injected_mass` is then in kg;
+//! `jet_deflection` is the mean x of the free particles in the band (within 2 D of the axis in
+//! any direction): along the seed's direction. No container (side walls are refused by name).
+//! The reference for the fall is the slender-thread model (`viscosph_reference`'s
+//! `falling_thread`, Matovich & Pearson 1969's axisymmetric thread).
 
 use super::{Outputs, Predictions, Scene, SceneConfig, SceneType};
 use crate::boundary::plate::Plate;
@@ -47,6 +61,7 @@ use crate::boundary::wall::Wall;
 use crate::config::{real, real_pos, ConfigError, IsphFreeSurface};
 use crate::diagnostics::SharedOutputs;
 use crate::particles::Fluid;
+use crate::dim::{Tensor, Vector};
 use crate::state::State;
 use crate::{Mat2, Vec2};
 
@@ -57,7 +72,7 @@ mod nozzle;
 pub use buckling::{buckling, summary, Buckling, ONSET_FRACTION};
 pub use column::{column, Column};
 pub use nozzle::{
-    buffer_rows, inflow_log, inflow_velocity, side_walls, InflowLog, Nozzle, SEED,
+    buffer_rows, disc_lattice, inflow_log, inflow_velocity, side_walls, InflowLog, Nozzle, SEED,
 };
 
 crate::params! {
@@ -79,7 +94,7 @@ crate::params! {
 crate::outputs! {
     /// The jet's own outputs (see the module documentation).
     pub struct JetOutputs {
-        injected_mass: vr 118, unit "kg/m"; "Jet: mass per unit depth that has entered through the nozzle since t = 0 (0 in other scenes)",
+        injected_mass: vr 118, unit "kg/m"; "Jet: mass that has entered through the nozzle since t = 0: in 2D per unit depth [kg/m], in 3D the round jet's mass in kg (0 in other scenes)",
         jet_deflection: vr 119, unit "m"; "Jet: horizontal offset of the falling column from the nozzle axis, one jet width above the heap (0 in other scenes)",
     }
 }
@@ -198,6 +213,13 @@ impl Scene for Jet {
                 jet.nozzle_height, jet.jet_width, dx, inclination
             )));
         }
+        if cfg.numerics.dimension == 3 && jet.container_width > 0.0 {
+            return Err(ConfigError::Inconsistent(format!(
+                "container_width = {} m: the round jet (dimension = 3) has no container (side \
+                 walls are planar in 2D only); use container_width = 0",
+                jet.container_width
+            )));
+        }
         if jet.container_width > 0.0 && jet.container_width < jet.jet_width + 4.0 * dx {
             return Err(ConfigError::Inconsistent(format!(
                 "container_width = {} m leaves less than two particle spacings between the jet \
@@ -239,26 +261,8 @@ impl Scene for Jet {
     /// The plate, the side walls if any, and a full nozzle: [`buffer_rows`] rows of particles at
     /// the inflow state above the exit.
     fn build(&self, cfg: &SceneConfig, rest: Option<Mat2>) -> (Fluid, Vec<Wall>) {
-        let dx = cfg.dx();
-        let plate = Plate::new(cfg.plate.plate_inclination, dx);
-        let nz = Nozzle::from_config(cfg);
-        let mut fluid = Fluid {
-            mass: cfg.fluid.density * dx * dx,
-            ..Default::default()
-        };
-        let conf = rest.unwrap_or_else(Mat2::zeros);
-        let v = inflow_velocity(cfg, cfg.jet.jet_velocity, 0.0);
-        for k in 0..nz.rows {
-            let y = nz.exit + (k as f64 + 0.5) * dx;
-            for i in 0..nz.columns {
-                fluid.x.push(Vec2::new(nz.column_x(i), y));
-                fluid.v.push(v);
-                fluid.rho.push(cfg.fluid.density);
-                if rest.is_some() {
-                    fluid.conf.push(conf);
-                }
-            }
-        }
+        let plate = Plate::new(cfg.plate.plate_inclination, cfg.dx());
+        let fluid = full_nozzle(cfg, rest);
         let mut walls: Vec<Wall> = vec![plate.clone().into()];
         walls.extend(side_walls(&plate, cfg.jet.container_width).into_iter().map(Wall::from));
         (fluid, walls)
@@ -294,69 +298,33 @@ impl Scene for Jet {
     }
 
     fn outputs(&self, st: &State, cfg: &SceneConfig) -> Outputs {
-        let mut o = SharedOutputs::compute(st, cfg.dx(), cfg.fluid.density);
-        let fl = &st.fluid;
-        let nz = Nozzle::from_config(cfg);
-        let dx = nz.dx;
-        let log = st.inflow.map(|_| inflow_log(st));
-        let u0 = log.map_or(cfg.jet.jet_velocity, |l| l.velocity);
-        let mut own = JetOutputs {
-            injected_mass: log.map_or(0.0, |l| l.particles as f64 * fl.mass),
-            jet_deflection: 0.0,
-        };
-        let Some(plate) = st.plate() else {
-            return Outputs {
-                shared: o,
-                jet: own,
-                ..Default::default()
-            };
-        };
-        let v_heap = 0.5 * u0 * plate.n.y;
-        let (mut s_lo, mut s_hi, mut d_hi, mut y_hi) = (
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-            f64::NEG_INFINITY,
-            f64::NEG_INFINITY,
-        );
-        let is_heap = |i: usize| -fl.v[i].dot(&plate.n) < v_heap && !nz.contains(&fl.x[i]);
-        for i in (0..fl.len()).filter(|&i| is_heap(i)) {
-            let (s, d) = (plate.s(&fl.x[i]), plate.d(&fl.x[i]));
-            s_lo = s_lo.min(s);
-            s_hi = s_hi.max(s);
-            d_hi = d_hi.max(d);
-            y_hi = y_hi.max(fl.x[i].y);
-        }
-        let y_heap = if s_lo.is_finite() {
-            o.drop_width = s_hi - s_lo + dx;
-            o.drop_height = d_hi + 0.5 * dx;
-            o.spread_front = s_hi + 0.5 * dx;
-            o.spread_back = -(s_lo - 0.5 * dx);
-            y_hi + 0.5 * dx
-        } else {
-            o.drop_width = 0.0;
-            o.drop_height = 0.0;
-            o.spread_front = 0.0;
-            o.spread_back = 0.0;
-            0.0
-        };
-        let d = cfg.jet.jet_width;
-        let y_m = (y_heap + d).min(nz.exit - 0.5 * d);
-        // A hat weight over +/- 2 dx, so that particles enter and leave the band smoothly and the
-        // measure carries no lattice noise.
-        let (mut sum, mut weight) = (0.0, 0.0);
-        for i in 0..fl.len() {
-            let w = 1.0 - (fl.x[i].y - y_m).abs() / (2.0 * dx);
-            if w > 0.0 && fl.x[i].x.abs() < 2.0 * d && !nz.contains(&fl.x[i]) {
-                sum += w * fl.x[i].x;
-                weight += w;
-            }
-        }
-        own.jet_deflection = if weight > 0.0 { sum / weight } else { 0.0 };
-        Outputs {
-            shared: o,
-            jet: own,
-            ..Default::default()
-        }
+        jet_outputs(st, cfg)
+    }
+
+    /// The round jet: the plate under a round nozzle ([`Jet::initial_state_3d`]).
+    fn three_dimensional(&self) -> bool {
+        true
+    }
+
+    /// The plate (`drop::plate_3d`: the plane through the impact point, inclined about y) and
+    /// a full round nozzle: [`buffer_rows`] rows of the [`disc_lattice`] at the inflow state,
+    /// each particle of mass [`Nozzle::particle_mass`].
+    fn initial_state_3d(&self, cfg: &SceneConfig, rest: Option<Tensor<3>>) -> Option<State<3>> {
+        let plate = super::drop::plate_3d(cfg.plate.plate_inclination, cfg.dx());
+        let fluid = full_nozzle(cfg, rest);
+        let mut st = State::new(fluid, vec![plate.into()], self.plate_wall());
+        nozzle::start(cfg, &mut st);
+        Some(st)
+    }
+
+    /// The inflow, as in 2D.
+    fn before_step_3d(&self, cfg: &SceneConfig, st: &mut State<3>) {
+        nozzle::advance(cfg, st);
+    }
+
+    /// The shared outputs and the jet's ([`jet_outputs`]; `injected_mass` in kg).
+    fn outputs_3d(&self, st: &State<3>, cfg: &SceneConfig) -> Outputs {
+        jet_outputs(st, cfg)
     }
 
     /// [`ISPH_WARNING`] when the scheme's free-surface condition is p = 0.
@@ -401,6 +369,111 @@ impl Scene for Jet {
             cfg.scheme,
             cfg.numerics.particles_per_diameter
         )
+    }
+}
+
+/// A full nozzle in N dimensions: [`buffer_rows`] rows ([`Nozzle::row`]) at the inflow state,
+/// each particle of mass [`Nozzle::particle_mass`]; `rest` the model's rest conformation, if
+/// it has one.
+fn full_nozzle<const N: usize>(cfg: &SceneConfig, rest: Option<Tensor<N>>) -> Fluid<N> {
+    let nz = Nozzle::from_config(cfg);
+    let mut fluid = Fluid::<N> {
+        mass: nz.particle_mass::<N>(cfg.fluid.density),
+        ..Default::default()
+    };
+    let v = inflow_velocity::<N>(cfg, cfg.jet.jet_velocity, 0.0);
+    for k in 0..nz.rows {
+        for x in nz.row::<N>(nz.exit + (k as f64 + 0.5) * nz.dx) {
+            fluid.x.push(x);
+            fluid.v.push(v);
+            fluid.rho.push(cfg.fluid.density);
+            if let Some(a) = rest {
+                fluid.conf.push(a);
+            }
+        }
+    }
+    fluid
+}
+
+/// The outputs of a jet state in N dimensions (see the module documentation): the heap's
+/// measures replace the shared drop measures; `jet_deflection` is the x offset of the column
+/// (in 3D: along the seed's direction, the column's centre within 2 D of the axis, any
+/// direction around it).
+pub fn jet_outputs<const N: usize>(st: &State<N>, cfg: &SceneConfig) -> Outputs
+where
+    nalgebra::Const<N>: nalgebra::DimMin<nalgebra::Const<N>, Output = nalgebra::Const<N>>,
+{
+    let mut o = SharedOutputs::compute(st, cfg.dx(), cfg.fluid.density);
+    let fl = &st.fluid;
+    let nz = Nozzle::from_config(cfg);
+    let dx = nz.dx;
+    let log = st.inflow.map(|_| inflow_log(st));
+    let u0 = log.map_or(cfg.jet.jet_velocity, |l| l.velocity);
+    let mut own = JetOutputs {
+        injected_mass: log.map_or(0.0, |l| l.particles as f64 * fl.mass),
+        jet_deflection: 0.0,
+    };
+    let Some(plate) = st.plate() else {
+        return Outputs {
+            shared: o,
+            jet: own,
+            ..Default::default()
+        };
+    };
+    let up = N - 1;
+    // Horizontal distance from the nozzle's axis.
+    let off_axis = |x: &Vector<N>| {
+        if N == 2 {
+            x[0].abs()
+        } else {
+            x.rows(0, N - 1).norm()
+        }
+    };
+    let v_heap = 0.5 * u0 * plate.n[up];
+    let (mut s_lo, mut s_hi, mut d_hi, mut y_hi) = (
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::NEG_INFINITY,
+        f64::NEG_INFINITY,
+    );
+    let is_heap = |i: usize| -fl.v[i].dot(&plate.n) < v_heap && !nz.contains(&fl.x[i]);
+    for i in (0..fl.len()).filter(|&i| is_heap(i)) {
+        let (s, d) = (plate.s(&fl.x[i]), plate.d(&fl.x[i]));
+        s_lo = s_lo.min(s);
+        s_hi = s_hi.max(s);
+        d_hi = d_hi.max(d);
+        y_hi = y_hi.max(fl.x[i][up]);
+    }
+    let y_heap = if s_lo.is_finite() {
+        o.drop_width = s_hi - s_lo + dx;
+        o.drop_height = d_hi + 0.5 * dx;
+        o.spread_front = s_hi + 0.5 * dx;
+        o.spread_back = -(s_lo - 0.5 * dx);
+        y_hi + 0.5 * dx
+    } else {
+        o.drop_width = 0.0;
+        o.drop_height = 0.0;
+        o.spread_front = 0.0;
+        o.spread_back = 0.0;
+        0.0
+    };
+    let d = cfg.jet.jet_width;
+    let y_m = (y_heap + d).min(nz.exit - 0.5 * d);
+    // A hat weight over +/- 2 dx, so that particles enter and leave the band smoothly and the
+    // measure carries no lattice noise.
+    let (mut sum, mut weight) = (0.0, 0.0);
+    for i in 0..fl.len() {
+        let w = 1.0 - (fl.x[i][up] - y_m).abs() / (2.0 * dx);
+        if w > 0.0 && off_axis(&fl.x[i]) < 2.0 * d && !nz.contains(&fl.x[i]) {
+            sum += w * fl.x[i][0];
+            weight += w;
+        }
+    }
+    own.jet_deflection = if weight > 0.0 { sum / weight } else { 0.0 };
+    Outputs {
+        shared: o,
+        jet: own,
+        ..Default::default()
     }
 }
 
