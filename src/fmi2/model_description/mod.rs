@@ -250,8 +250,10 @@ pub(crate) fn shared_root_attributes(source: &str) -> String {
   generationTool="ViscoSPH {} ({source})"
   variableNamingConvention="flat""#,
         escape(
-            "Transient viscoelastic and shear-thinning free-surface flows by SPH: a 2D drop \
-             impacting a possibly inclined rigid plate"
+            "Transient viscoelastic and shear-thinning free-surface flows by SPH, in 2D and 3D: \
+             a drop impacting a possibly inclined, possibly moving rigid plate (the default \
+             scene), channel start-up, a buckling jet, the elliptical drop and a periodic array \
+             of cylinders"
         ),
         env!("CARGO_PKG_VERSION"),
         env!("CARGO_PKG_VERSION"),
