@@ -245,9 +245,13 @@ fn dimension_3_refuses_what_has_no_3d_form_by_name() {
         }
         Simulation::validate(&c).unwrap_err().to_string()
     };
-    let e = refusal(&[("scene", s("jet"))]);
+    // The cylinder array has no 3D form; the message lists the scenes that have one.
+    let e = refusal(&[("scene", s("cylinder_array"))]);
     assert!(
-        e.contains("'jet'") && e.contains("'drop'") && e.contains("'channel'"),
+        e.contains("'cylinder_array'")
+            && e.contains("'drop'")
+            && e.contains("'channel'")
+            && e.contains("'jet'"),
         "{e}"
     );
     let e = refusal(&[("wall_boundary", s("image"))]);

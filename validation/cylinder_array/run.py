@@ -82,7 +82,7 @@ s, u, _ = centreline(f"newtonian{sizes[-1]}")
 err = max(abs(ui - interp(si, ref["s_over_R"], ref["u_over_mean_navier_stokes"]))
           for si, ui in zip(s, u))
 case.measured(f"centreline_error_{sizes[-1]}", f"Newtonian, {sizes[-1]} across: max over the "
-              "centre line of abs(u/<u> - FEM)", err, "{:.4f}")
+              "centre line of abs(u/⟨u⟩ - FEM)", err, "{:.4f}")
 a2.plot(ref["s_over_R"], ref["u_over_mean_navier_stokes"], "k-", lw=1.5, label="FEM, Newtonian")
 a2.plot(s, u, "C3.", ms=4, label=f"ISPH, {sizes[-1]} across")
 if not case.short:
@@ -128,7 +128,7 @@ fig.suptitle("Periodic array of cylinders (King & Lind 2021 section IV.B), ISPH 
              "finite-element cell", fontsize=10)
 fig.tight_layout()
 fig.savefig(case.out / "cylinder_array.png", dpi=110)
-case.finish("K is averaged over the three time units R/<u> after King & Lind's steady state "
+case.finish("K is averaged over the three time units R/⟨u⟩ after King & Lind's steady state "
             "(as `viscosph run` prints it); the FEM values are reference/cell_results.csv "
             "(Navier-Stokes, finest level) and reference/oldroyd_b_convergence.csv (finest "
             "level).")
