@@ -260,6 +260,32 @@ pub fn keep_out_of_wall<const N: usize>(
     (momentum, count)
 }
 
+/// [`keep_out_of_wall`] for every wall in order: the momentum each wall gave the fluid (in wall
+/// order), the momentum each particle put back by the plate wall `plate` received (in the order
+/// they were put back) and the number of particles put back. The one contact step of all three
+/// schemes; each books the momenta into its own wall forces and plate load.
+#[allow(clippy::type_complexity)]
+pub fn keep_out_of_walls<const N: usize>(
+    fl: &mut Fluid<N>,
+    walls: &[Wall<N>],
+    plate: Option<usize>,
+) -> (Vec<Vector<N>>, Vec<(usize, Vector<N>)>, u64) {
+    let mut per_wall = Vec::with_capacity(walls.len());
+    let mut on_plate = Vec::new();
+    let mut count = 0;
+    for (k, wall) in walls.iter().enumerate() {
+        let own = plate == Some(k);
+        let (m, reflections) = keep_out_of_wall(fl, wall, |i, m| {
+            if own {
+                on_plate.push((i, m));
+            }
+        });
+        per_wall.push(m);
+        count += reflections;
+    }
+    (per_wall, on_plate, count)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

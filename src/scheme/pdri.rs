@@ -24,7 +24,7 @@
 //!
 //! * **Walls' kinematic condition** (not in Ren's paper): a particle that ends a step inside a
 //!   wall is put back across it, its velocity into the wall removed, as in Fang's scheme
-//!   ([`crate::boundary::ghost::keep_out_of_wall`]).
+//!   ([`crate::boundary::ghost::keep_out_of_walls`]).
 //!
 //! The wall force is the force of the virtual particles on the fluid averaged over the two rate
 //! evaluations, the same average that moves the fluid in eq. (25b), plus the momentum the
@@ -35,7 +35,7 @@ use super::health::check_health;
 use super::params::Params;
 use super::wc::{ghost_walls, WcCore, WcSpace};
 use super::Scheme;
-use crate::boundary::ghost::{keep_out_of_wall, WallModel};
+use crate::boundary::ghost::{keep_out_of_walls, WallModel};
 use crate::boundary::wall::Wall;
 use crate::boundary::Boundary;
 use crate::dim::mls::Mls;
@@ -219,21 +219,16 @@ where
         // through the channel walls at t = 2.4-3.1 s. The momentum it gives is the wall's, as in
         // WCSPH. A particle is never inside a wall otherwise (the health check stops the run),
         // so runs without contact are unchanged bit for bit.
+        let (momenta, contacts, reflections) =
+            keep_out_of_walls(&mut st.fluid, &st.walls, st.plate);
         let mut contact = Vector::<N>::zeros();
-        let mut contacts: Vec<(usize, Vector<N>)> = Vec::new();
-        for (k, wall) in st.walls.iter().enumerate() {
-            let own = st.plate == Some(k);
-            let (m, reflections) = keep_out_of_wall(&mut st.fluid, wall, |i, m| {
-                if own {
-                    contacts.push((i, m));
-                }
-            });
+        for (k, m) in momenta.iter().enumerate() {
             contact += m;
-            st.wall_reflections += reflections;
             if let Some(w) = per_wall.get_mut(k) {
                 *w -= m / dt;
             }
         }
+        st.wall_reflections += reflections;
         st.wall_force = -on_fluid - contact / dt;
         st.wall_impulse += -on_fluid * dt - contact;
         st.book_wall_forces(per_wall, dt);

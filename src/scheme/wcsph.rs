@@ -33,7 +33,7 @@ use super::health::check_health;
 use super::params::Params;
 use super::wc::{ghost_walls, WcCore, WcSpace};
 use super::{Scheme, Timings};
-use crate::boundary::ghost::{keep_out_of_wall, WallModel};
+use crate::boundary::ghost::{keep_out_of_walls, WallModel};
 use crate::boundary::wall::Wall;
 use crate::boundary::Boundary;
 use crate::dim::{Const, Dim, Vector};
@@ -118,18 +118,16 @@ where
             Some(k) => c.wall_load_into(k, st.fluid.mass, &mut load),
             None => load.clear(),
         }
-        for (k, (wall, on_fluid)) in st.walls.iter().zip(per_wall.iter_mut()).enumerate() {
-            let own = plate == Some(k);
-            let (m, reflections) = keep_out_of_wall(&mut st.fluid, wall, |i, m| {
-                if own {
-                    load[i] -= m / dt;
-                }
-            });
+        let (momenta, on_plate, reflections) = keep_out_of_walls(&mut st.fluid, &st.walls, plate);
+        for (i, m) in on_plate {
+            load[i] -= m / dt;
+        }
+        for (on_fluid, m) in per_wall.iter_mut().zip(&momenta) {
             contact += m;
-            st.wall_reflections += reflections;
             // The force of the fluid on this wall alone.
             *on_fluid = -*on_fluid - m / dt;
         }
+        st.wall_reflections += reflections;
         st.book_wall_forces(per_wall, dt);
         st.plate_load = load;
         // Force of the fluid on the plate is minus the force of the wall particles on the fluid

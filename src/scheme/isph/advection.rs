@@ -13,7 +13,7 @@
 //! removed (King's code reflects it too); the momentum removed counts in the wall force.
 
 use super::{Context, Isph};
-use crate::boundary::ghost::keep_out_of_wall;
+use crate::boundary::ghost::keep_out_of_walls;
 use crate::dim::{Const, Dim, Tensor, Vector};
 use crate::kernel::Kernel;
 use crate::operators::shifting;
@@ -119,18 +119,13 @@ where
         if R::ELASTIC {
             fl.conf = conf;
         }
-        let mut contacts = Vec::with_capacity(st.walls.len());
         let mut plate_contact = vec![Vector::<N>::zeros(); st.plate.map_or(0, |_| st.fluid.len())];
-        for (k, wall) in st.walls.iter().enumerate() {
-            let own = st.plate == Some(k);
-            let (m, reflections) = keep_out_of_wall(&mut st.fluid, wall, |i, m| {
-                if let Some(c) = plate_contact.get_mut(i).filter(|_| own) {
-                    *c += m;
-                }
-            });
-            contacts.push(m);
-            st.wall_reflections += reflections;
+        let (contacts, on_plate, reflections) =
+            keep_out_of_walls(&mut st.fluid, &st.walls, st.plate);
+        for (i, m) in on_plate {
+            plate_contact[i] += m;
         }
+        st.wall_reflections += reflections;
         (contacts, plate_contact)
     }
 }
