@@ -130,10 +130,9 @@ pub struct WcCore<K: Kernel<N>, R: Rheology, const N: usize = 2> {
     /// m / rho of every particle.
     all_vol: Vec<f64>,
     /// What the gather passes read of a neighbour, packed per particle (fluid first, then
-    /// virtual): 48 bytes for pass 1 ([`passes::Rec`]), one 64-byte line for pass 2
-    /// ([`passes::Rec2`]).
-    rec: Vec<passes::Rec>,
-    rec2: Vec<passes::Rec2>,
+    /// virtual): for pass 1 ([`passes::Rec`]) and for pass 2 ([`passes::Rec2`]).
+    rec: Vec<passes::Rec<N>>,
+    rec2: Vec<passes::Rec2<N>>,
     pairs: PairCache<N>,
     /// Polymer stress of fluid particles (empty for inelastic models); from pass 1 on, with EVSS,
     /// the elastic stress as it enters sigma (Phi and its trace term), which is what the wall's
@@ -601,7 +600,6 @@ pub(crate) fn lattice_block(
 
 mod particle;
 mod passes;
-mod plain;
 mod space;
 
 use particle::{book_particle, particle_stress};

@@ -1,7 +1,6 @@
 //! What every dimension's passes do for one particle: pass 1's stresses from the velocity
 //! gradient ([`particle_stress`]) and pass 2's booking of the momentum rate, the wall force and
-//! each wall's share ([`book_particle`]). The packed 2D passes (passes.rs) and the plain
-//! N-dimensional ones (plain.rs) both end with these, so the arithmetic is written once.
+//! each wall's share ([`book_particle`]), outside the pair loops of passes.rs.
 
 use super::ArtificialStress;
 use crate::dim::{Const, Dim, Tensor, Vector};

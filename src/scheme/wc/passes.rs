@@ -1,9 +1,12 @@
-//! The two gather passes of a weakly compressible rate evaluation (see the parent module).
+//! The two gather passes of a weakly compressible rate evaluation (see the parent module), one
+//! code for every dimension N.
 //!
-//! **How the hot loops are laid out** (issue 16; the profile and the gain of each step are in
+//! **How the hot loops are laid out** (the profile and the gain of each step are in
 //! docs/benchmarks.md). A neighbour's data is read from packed records rather than from six
-//! arrays of nalgebra structs: pass 1 from a 48-byte [`Rec`], pass 2 from a 64-byte [`Rec2`]
-//! (prefetched a few pairs ahead, since the cached indices say which one comes next). The
+//! arrays of nalgebra structs: pass 1 from a [`Rec`] (48 bytes in 2D, one 64-byte line in 3D),
+//! pass 2 from a [`Rec2`] (one line in 2D, three in 3D; prefetched a few pairs ahead, since the
+//! cached indices say which one comes next). Each particle's sigma/rho^2 is computed once, when
+//! its record is packed, not once per pair. The
 //! per-pair branches whose outcome is data-dependent (inside the support or in the skin; an
 //! approaching or receding pair in the artificial viscosity; a zero artificial stress; a fluid
 //! or a virtual neighbour) are gone: pass 1 compacts the candidates inside the support without a
@@ -12,57 +15,81 @@
 //! come after the fluid, so the split is one binary search); the artificial viscosity selects
 //! its value by a mask. Loop-invariant choices (periodic domain, Morris' Laplacian, artificial
 //! stress, Hessian sums) are const generic parameters, so each variant is its own straight loop.
-//! Every operation and every sum is the same as in the plain loops, in the same order: the
-//! results are bitwise those of the code before this layout.
+//! Every operation and every sum is the same as in the plain pair-by-pair form over nalgebra's
+//! types, in the same order: the results are bitwise those of that form (in 2D the goldens, in
+//! 3D runs compared output file by output file).
 
 use super::*;
-use crate::{Mat2, Vec2};
+use crate::neighbors::Domain;
 
-/// What pass 1 reads of a neighbour: position, velocity, density and volume m/rho, 48 bytes.
-/// Kept apart from what pass 2 reads ([`Rec2`]): a particle's neighbours are mostly runs of
-/// consecutive indices (lattice rows), so with 48-byte records four neighbours share three cache
-/// lines, where one record of both passes' values (128 bytes) took a line per neighbour and
-/// doubled the footprint each pass walks through.
-#[derive(Debug, Clone, Copy, Default)]
+/// What pass 1 reads of a neighbour: position, velocity, density and volume m/rho; 48 bytes in
+/// 2D, 64 in 3D. Kept apart from what pass 2 reads ([`Rec2`]): a particle's neighbours are
+/// mostly runs of consecutive indices (lattice rows), so with 48-byte records four neighbours
+/// share three cache lines, where one record of both passes' values (128 bytes in 2D) took a
+/// line per neighbour and doubled the footprint each pass walks through.
+#[derive(Debug, Clone, Copy)]
 #[repr(C)]
-pub(crate) struct Rec {
-    pub x: f64,
-    pub y: f64,
-    pub vx: f64,
-    pub vy: f64,
+pub(crate) struct Rec<const N: usize> {
+    pub x: Vector<N>,
+    pub v: Vector<N>,
     pub rho: f64,
     pub vol: f64,
 }
 
-/// What pass 2 reads of a neighbour: sigma/rho^2 (Fang 2006 eq. 27) and the artificial stress
-/// R, both column-major like nalgebra's `Mat2`: one 64-byte line. (Morris' term also reads the
-/// neighbour's [`Rec`] and its viscosity.)
-#[derive(Debug, Clone, Copy, Default)]
-#[repr(C, align(64))]
-pub(crate) struct Rec2 {
-    pub s: [f64; 4],
-    pub r: [f64; 4],
-}
-
-#[inline(always)]
-fn m2(m: &Mat2) -> [f64; 4] {
-    [m[(0, 0)], m[(1, 0)], m[(0, 1)], m[(1, 1)]]
-}
-
-/// x_a - x_b at the nearest image along x, as [`crate::neighbors::Domain::delta`] computes it for
-/// a domain periodic along x (pass 1 refuses one periodic along another axis).
-#[inline(always)]
-fn delta<const PERIODIC: bool>(ax: f64, ay: f64, b: &Rec, l: f64) -> (f64, f64) {
-    let mut dx = ax - b.x;
-    let dy = ay - b.y;
-    if PERIODIC {
-        if dx > 0.5 * l {
-            dx -= l;
-        } else if dx < -0.5 * l {
-            dx += l;
+impl<const N: usize> Default for Rec<N> {
+    fn default() -> Self {
+        Self {
+            x: Vector::zeros(),
+            v: Vector::zeros(),
+            rho: 0.0,
+            vol: 0.0,
         }
     }
-    (dx, dy)
+}
+
+/// What pass 2 reads of a neighbour: sigma/rho^2 (Fang 2006 eq. 27) and the artificial stress
+/// R: one 64-byte line in 2D, three in 3D. (Morris' term also reads the neighbour's [`Rec`] and
+/// its viscosity.)
+#[derive(Debug, Clone, Copy)]
+#[repr(C, align(64))]
+pub(crate) struct Rec2<const N: usize> {
+    pub s: Tensor<N>,
+    pub r: Tensor<N>,
+}
+
+impl<const N: usize> Default for Rec2<N> {
+    fn default() -> Self {
+        Self {
+            s: Tensor::zeros(),
+            r: Tensor::zeros(),
+        }
+    }
+}
+
+/// x_a - x_b: the plain difference, or with `PERIODIC` at the nearest image
+/// ([`Domain::delta`], the same operations).
+#[inline(always)]
+fn delta<const N: usize, const PERIODIC: bool>(
+    a: &Vector<N>,
+    b: &Vector<N>,
+    dom: &Domain,
+) -> Vector<N> {
+    if PERIODIC {
+        dom.delta(a, b)
+    } else {
+        a - b
+    }
+}
+
+/// |d|^2 summed axis by axis from x (nalgebra's `norm_squared` for N = 2 and 3, in the same
+/// order).
+#[inline(always)]
+fn norm2<const N: usize>(d: &Vector<N>) -> f64 {
+    let mut r2 = d[0] * d[0];
+    for a in 1..N {
+        r2 += d[a] * d[a];
+    }
+    r2
 }
 
 /// How many pairs ahead pass 2 prefetches a neighbour's record (x86_64 only: the prefetch
@@ -77,50 +104,44 @@ struct PairConst {
     c: f64,
     h: f64,
     eta2: f64,
-    l: f64,
+    dom: Domain,
 }
 
 /// The pass-2 pair term of particle i (record `ri`) with neighbour j (`rj`), kernel gradient
 /// `grad`, artificial viscosity `pi` and artificial stress factor `f` (both from pass 1): exactly
 /// the operations of Fang eq. (27) with eqs. (30)-(38) (and Morris' term) as the operators write
-/// them, component by component. Without Morris' term it reads only the second line of j's
-/// record.
+/// them over nalgebra's types, component by component. Pi_ij enters the diagonal only (the
+/// plain form's `- I Pi_ij` subtracts exact zeros elsewhere: Pi_ij >= +0). Without Morris' term
+/// it reads only j's [`Rec2`].
 #[inline(always)]
-fn pair_term<const PERIODIC: bool, const MORRIS: bool, const ART: bool>(
-    (ri, si, mui): (&Rec, &Rec2, f64),
-    (rj, sj, muj): (&Rec, &Rec2, f64),
-    grad: Vec2,
+fn pair_term<const N: usize, const PERIODIC: bool, const MORRIS: bool, const ART: bool>(
+    (ri, si, mui): (&Rec<N>, &Rec2<N>, f64),
+    (rj, sj, muj): (&Rec<N>, &Rec2<N>, f64),
+    grad: &Vector<N>,
     pi: f64,
     f: f64,
     k: &PairConst,
-) -> (f64, f64) {
-    let mut t = [
-        si.s[0] + sj.s[0],
-        si.s[1] + sj.s[1],
-        si.s[2] + sj.s[2],
-        si.s[3] + sj.s[3],
-    ];
-    t[0] -= pi;
-    t[3] -= pi;
+) -> Vector<N> {
+    let mut t = si.s + sj.s;
+    for a in 0..N {
+        t[(a, a)] -= pi;
+    }
     if ART {
         // A zero R_i + R_j adds exact zeros: no branch needed.
-        for (tc, (a, b)) in t.iter_mut().zip(si.r.iter().zip(&sj.r)) {
-            *tc += (a + b) * f;
-        }
+        t += (si.r + sj.r) * f;
     }
-    // t * grad, nalgebra's matrix-vector product, t column-major.
-    let mut cx = t[0] * grad.x + t[2] * grad.y;
-    let mut cy = t[1] * grad.x + t[3] * grad.y;
+    // t * grad in the order of nalgebra's matrix-vector product (column by column).
+    let mut c = t.column(0) * grad[0];
+    for b in 1..N {
+        c += t.column(b) * grad[b];
+    }
     if MORRIS {
-        let (dx, dy) = delta::<PERIODIC>(ri.x, ri.y, rj, k.l);
-        let xij = Vec2::new(dx, dy);
-        let vij = Vec2::new(ri.vx - rj.vx, ri.vy - rj.vy);
+        let xij = delta::<N, PERIODIC>(&ri.x, &rj.x, &k.dom);
+        let vij = ri.v - rj.v;
         let r2 = xij.norm_squared();
-        let m = stress::morris_pair(&vij, &xij, &grad, mui + muj, ri.rho, rj.rho, r2, k.eta2);
-        cx += m.x;
-        cy += m.y;
+        c += stress::morris_pair(&vij, &xij, grad, mui + muj, ri.rho, rj.rho, r2, k.eta2);
     }
-    (cx, cy)
+    c
 }
 
 /// Pass 1's per-slot arithmetic over one particle's compacted pairs: on entry `g` holds x_ij,
@@ -131,17 +152,16 @@ fn pair_term<const PERIODIC: bool, const MORRIS: bool, const ART: bool>(
 /// element the operations of the kernel and of [`artificial::viscosity`], so the values are
 /// bitwise those computed pair by pair.
 #[inline(always)]
-fn pair_kernels<K: Kernel, F: Fn(f64, f64) -> f64>(
+fn pair_kernels<const N: usize, K: Kernel<N>, F: Fn(f64, f64) -> f64>(
     kernel: &K,
     factor: F,
     k: &PairConst,
-    (g, pi, f): (&mut [Vec2], &mut [f64], &mut [f64]),
+    (g, pi, f): (&mut [Vector<N>], &mut [f64], &mut [f64]),
 ) {
     let n = g.len().min(pi.len()).min(f.len());
     let (g, pi, f) = (&mut g[..n], &mut pi[..n], &mut f[..n]);
     for s in 0..n {
-        let (dx, dy) = (g[s].x, g[s].y);
-        let r2 = dx * dx + dy * dy;
+        let r2 = norm2(&g[s]);
         let (wv, dw_r) = kernel.w_and_dw_over_r(r2.sqrt());
         g[s] *= dw_r;
         pi[s] = artificial::viscosity_of_dot(k.alpha, k.beta, k.h, k.c, f[s], pi[s], r2);
@@ -158,11 +178,11 @@ fn pair_kernels<K: Kernel, F: Fn(f64, f64) -> f64>(
 /// Only on a CPU with AVX2 (checked once per pass by the caller).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn pair_kernels_avx2<K: Kernel, F: Fn(f64, f64) -> f64>(
+unsafe fn pair_kernels_avx2<const N: usize, K: Kernel<N>, F: Fn(f64, f64) -> f64>(
     kernel: &K,
     factor: F,
     k: &PairConst,
-    slots: (&mut [Vec2], &mut [f64], &mut [f64]),
+    slots: (&mut [Vector<N>], &mut [f64], &mut [f64]),
 ) {
     pair_kernels(kernel, factor, k, slots)
 }
@@ -171,11 +191,11 @@ unsafe fn pair_kernels_avx2<K: Kernel, F: Fn(f64, f64) -> f64>(
 /// when `avx2` (the CPU has it), else the portable one. The choices are made here, once per
 /// particle, so that each loop is straight.
 #[inline(always)]
-fn pair_kernels_dispatch<K: Kernel>(
+fn pair_kernels_dispatch<const N: usize, K: Kernel<N>>(
     kernel: &K,
     art: Option<&ArtificialStress>,
     k: &PairConst,
-    slots: (&mut [Vec2], &mut [f64], &mut [f64]),
+    slots: (&mut [Vector<N>], &mut [f64], &mut [f64]),
     avx2: bool,
 ) {
     macro_rules! run {
@@ -213,8 +233,11 @@ fn has_avx2() -> bool {
     }
 }
 
-/// The two-dimensional passes: packed records and the AVX2 build of the pair loops.
-impl<K: Kernel, R: Rheology> WcCore<K, R, 2> {
+/// The passes of every dimension: packed records and the AVX2 build of the pair loops.
+impl<K: Kernel<N>, R: Rheology, const N: usize> WcCore<K, R, N>
+where
+    Const<N>: Dim + WcSpace<N>,
+{
     /// Records of every particle (fluid and virtual): positions, velocities, densities and
     /// volumes, for pass 1. The walls' velocities must be in `all_v`.
     pub(super) fn pack_kinematics(&mut self) {
@@ -226,10 +249,8 @@ impl<K: Kernel, R: Rheology> WcCore<K, R, 2> {
             .with_min_len(MIN_TASK_LIGHT)
             .enumerate()
             .for_each(|(i, r)| {
-                r.x = ax[i].x;
-                r.y = ax[i].y;
-                r.vx = av[i].x;
-                r.vy = av[i].y;
+                r.x = ax[i];
+                r.v = av[i];
                 r.rho = arho[i];
                 r.vol = avol[i];
             });
@@ -247,20 +268,15 @@ impl<K: Kernel, R: Rheology> WcCore<K, R, 2> {
             .enumerate()
             .for_each(|(i, r)| {
                 let rho = arho[i];
-                r.s = m2(&(asig[i] / (rho * rho)));
-                r.r = m2(&aart[i]);
+                r.s = asig[i] / (rho * rho);
+                r.r = aart[i];
             });
     }
 
     /// Pass 1 (a gather): velocity gradient (Fang eq. 23), continuity (eq. 26), stresses, and
     /// the kernel values of every pair inside the support, cached for pass 2.
-    pub(super) fn pass1_packed(&mut self, fl: &Fluid) {
-        // The records' pair vectors (`delta`) wrap along x only.
-        assert!(
-            self.p.domain.period_y.is_none() && self.p.domain.period_z.is_none(),
-            "the weakly compressible passes take domains periodic along x only"
-        );
-        match (self.p.domain.period_x.is_some(), self.art.needs_hessian()) {
+    pub(super) fn pass1_packed(&mut self, fl: &Fluid<N>) {
+        match (self.p.domain.is_periodic(), self.art.needs_hessian()) {
             (false, false) => self.pass1_impl::<false, false>(fl),
             (false, true) => self.pass1_impl::<false, true>(fl),
             (true, false) => self.pass1_impl::<true, false>(fl),
@@ -268,11 +284,11 @@ impl<K: Kernel, R: Rheology> WcCore<K, R, 2> {
         }
     }
 
-    fn pass1_impl<const PERIODIC: bool, const HESS: bool>(&mut self, fl: &Fluid) {
+    fn pass1_impl<const PERIODIC: bool, const HESS: bool>(&mut self, fl: &Fluid<N>) {
         let nf = fl.len();
         let mass = fl.mass;
         self.pairs.resize_for(&self.nlist);
-        self.kappa.resize(nf, Mat2::zeros());
+        self.kappa.resize(nf, Tensor::zeros());
         self.drho.resize(nf, 0.0);
         let (kernel, model, p, art, evss) =
             (&self.kernel, &self.model, &self.p, &self.art, self.evss);
@@ -285,9 +301,9 @@ impl<K: Kernel, R: Rheology> WcCore<K, R, 2> {
             c: p.eos.c,
             h,
             eta2: MORRIS_ETA2 * h * h,
-            l: self.p.domain.period_x.unwrap_or(0.0),
+            dom: self.p.domain,
         };
-        let l = cst.l;
+        let dom = cst.dom;
         let r2max = kernel.radius().powi(2);
         let laplacian = self.laplacian();
         let art_on = art.is_on();
@@ -325,7 +341,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R, 2> {
                     for at in 0..lens.len() {
                         let i = first + at;
                         let ri = &rec[i];
-                        let (xi, yi, vxi, vyi) = (ri.x, ri.y, ri.vx, ri.vy);
+                        let (xi, vi) = (ri.x, ri.v);
                         // Locals, not loads through the closure's captures: the loop's stores might
                         // alias them as far as the compiler knows, and it reloaded both every
                         // candidate.
@@ -351,14 +367,12 @@ impl<K: Kernel, R: Rheology> WcCore<K, R, 2> {
                             // array's length (asserted above). Unchecked, the loop has no bounds
                             // tests between a neighbour's load and its stores.
                             let rj = unsafe { rec.get_unchecked(j as usize) };
-                            let (dx, dy) = delta::<PERIODIC>(xi, yi, rj, l);
-                            let r2 = dx * dx + dy * dy;
-                            let xij = Vec2::new(dx, dy);
+                            let xij = delta::<N, PERIODIC>(&xi, &rj.x, &dom);
+                            let r2 = norm2(&xij);
                             unsafe {
                                 *js.get_unchecked_mut(k) = j;
                                 *gs.get_unchecked_mut(k) = xij;
-                                *ps.get_unchecked_mut(k) =
-                                    Vec2::new(vxi - rj.vx, vyi - rj.vy).dot(&xij);
+                                *ps.get_unchecked_mut(k) = (vi - rj.v).dot(&xij);
                                 *fs.get_unchecked_mut(k) = 0.5 * (rhoi + rj.rho);
                             }
                             k += ((r2 < r2max) & (j as usize != i)) as usize;
@@ -369,15 +383,15 @@ impl<K: Kernel, R: Rheology> WcCore<K, R, 2> {
                         let slots = (&mut gs[..k], &mut ps[..k], &mut fs[..k]);
                         pair_kernels_dispatch(kernel, art_on.then_some(art), &cst, slots, avx2);
                         let mut kin = Kinematics::default();
-                        let mut hess = Mat2::zeros();
+                        let mut hess = Tensor::zeros();
                         for (j, grad) in js[..k].iter().zip(&gs[..k]) {
                             // SAFETY: every j is from i's list (see above).
                             let rj = unsafe { rec.get_unchecked(*j as usize) };
-                            kin.add_pair(&Vec2::new(vxi - rj.vx, vyi - rj.vy), grad, rj.vol);
+                            kin.add_pair(&(vi - rj.v), grad, rj.vol);
                             if HESS {
-                                let (dx, dy) = delta::<PERIODIC>(xi, yi, rj, l);
-                                let r2 = dx * dx + dy * dy;
-                                hess += artificial::kernel_hessian(kernel, &Vec2::new(dx, dy), r2);
+                                let xij = delta::<N, PERIODIC>(&xi, &rj.x, &dom);
+                                let r2 = norm2(&xij);
+                                hess += artificial::kernel_hessian(kernel, &xij, r2);
                             }
                         }
                         lens[at] = k as u32;
@@ -396,8 +410,8 @@ impl<K: Kernel, R: Rheology> WcCore<K, R, 2> {
     /// Pass 2 (a gather over the cached pairs): momentum (Fang eq. 27, Ren eq. 21) with
     /// artificial viscosity (Fang eqs. 30-37, Ren eq. 19) and artificial stress (Fang eq. 38,
     /// Ren eq. 20a); with EVSS, Morris' viscous Laplacian.
-    pub(super) fn pass2_packed(&mut self, fl: &Fluid) {
-        let periodic = self.p.domain.period_x.is_some();
+    pub(super) fn pass2_packed(&mut self, fl: &Fluid<N>) {
+        let periodic = self.p.domain.is_periodic();
         match (periodic, self.laplacian(), self.art.is_on()) {
             (false, false, false) => self.pass2_impl::<false, false, false>(fl),
             (false, false, true) => self.pass2_impl::<false, false, true>(fl),
@@ -412,17 +426,17 @@ impl<K: Kernel, R: Rheology> WcCore<K, R, 2> {
 
     fn pass2_impl<const PERIODIC: bool, const MORRIS: bool, const ART: bool>(
         &mut self,
-        fl: &Fluid,
+        fl: &Fluid<N>,
     ) {
         let nf = fl.len();
         let mass = fl.mass;
-        self.acc.resize(nf, Vec2::zeros());
-        self.wall_acc.resize(nf, Vec2::zeros());
+        self.acc.resize(nf, Vector::zeros());
+        self.wall_acc.resize(nf, Vector::zeros());
         // Each wall's virtual particles end at these indices (ascending, wall by wall).
         let wall_ends: Vec<u32> = self.wall_ranges.iter().map(|r| r.end as u32).collect();
         let nw = wall_ends.len();
         self.wall_split
-            .resize(if nw > 1 { nf * nw } else { nf }, Vec2::zeros());
+            .resize(if nw > 1 { nf * nw } else { nf }, Vector::zeros());
         {
             let p = &self.p;
             let (rec, rec2, amu) = (&self.rec, &self.rec2, &self.all_mu);
@@ -431,7 +445,6 @@ impl<K: Kernel, R: Rheology> WcCore<K, R, 2> {
             // number of points the lists were built over: the loop reads records unchecked.
             assert!(nlist.points() <= rec2.len());
             assert!(rec.len() == rec2.len() && amu.len() == rec2.len());
-            let l = self.p.domain.period_x.unwrap_or(0.0);
             let h = self.kernel.h();
             let eta2 = MORRIS_ETA2 * h * h;
             let cst = PairConst {
@@ -440,7 +453,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R, 2> {
                 c: p.eos.c,
                 h,
                 eta2,
-                l,
+                dom: p.domain,
             };
             // One task per run of TASK particles, a plain loop inside (as in pass 1).
             const TASK: usize = MIN_TASK;
@@ -469,7 +482,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R, 2> {
                         let n = jj.len();
                         assert!(gg.len() == n && pp.len() == n && ff.len() == n);
                         let sum = |from: usize, to: usize| {
-                            let mut a = Vec2::zeros();
+                            let mut a = Vector::<N>::zeros();
                             for k in from..to {
                                 // Ask for the record PREFETCH pairs ahead: the cached indices say
                                 // which, the hardware prefetchers cannot guess it, and the profile
@@ -478,13 +491,15 @@ impl<K: Kernel, R: Rheology> WcCore<K, R, 2> {
                                 if k + PREFETCH < to {
                                     use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
                                     // SAFETY: k + PREFETCH < to <= n and the index < the records'
-                                    // length, as below; a prefetch never faults anyway.
+                                    // length, as below; a prefetch never faults anyway. Every
+                                    // line of the record (one in 2D, three in 3D).
                                     #[allow(unused_unsafe)]
                                     unsafe {
                                         let j = *jj.get_unchecked(k + PREFETCH) as usize;
-                                        _mm_prefetch::<_MM_HINT_T0>(
-                                            rec2.as_ptr().add(j) as *const i8
-                                        );
+                                        let at = rec2.as_ptr().add(j) as *const i8;
+                                        for line in 0..std::mem::size_of::<Rec2<N>>() / 64 {
+                                            _mm_prefetch::<_MM_HINT_T0>(at.add(64 * line));
+                                        }
                                     }
                                 }
                                 // SAFETY: k < n, the length of every slot array (asserted above),
@@ -503,10 +518,7 @@ impl<K: Kernel, R: Rheology> WcCore<K, R, 2> {
                                         *ff.get_unchecked(k),
                                     )
                                 };
-                                let (cx, cy) =
-                                    pair_term::<PERIODIC, MORRIS, ART>(ri, rj, g, pi, f, &cst);
-                                a.x += cx;
-                                a.y += cy;
+                                a += pair_term::<N, PERIODIC, MORRIS, ART>(ri, rj, &g, pi, f, &cst);
                             }
                             a
                         };

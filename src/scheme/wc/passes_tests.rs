@@ -19,7 +19,7 @@ fn pair_loop_is_bitwise_the_pairwise_operators_portable_and_avx2() {
         c: 12.6,
         h: kernel.h(),
         eta2: 0.0,
-        l: 0.0,
+        dom: Domain::OPEN,
     };
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(16);
     let n = 1003; // not a multiple of the vector width

@@ -1,11 +1,10 @@
 //! What the weakly compressible schemes need of a space dimension beyond [`crate::dim::Dim`]: the two gather
 //! passes of a rate evaluation and the void fraction of the health check.
 //!
-//! Two dimensions ([`crate::dim::D2`]) run the packed-record passes with the AVX2 build of the
-//! pair loops (`passes.rs`) and the void fraction on cells of the plate's frame
-//! ([`fluid_void_fraction`]); three dimensions run the plain passes (`plain.rs`: the same sums
-//! over nalgebra types, any N) and have no void fraction yet, so the fracture check does not act
-//! there. A further dimension is one more impl.
+//! Both dimensions run the same packed-record passes with the AVX2 build of the pair loops
+//! (`passes.rs`, generic over N); two dimensions ([`crate::dim::D2`]) have the void fraction on
+//! cells of the plate's frame ([`fluid_void_fraction`]), three have none yet, so the fracture
+//! check does not act there. A further dimension is one more impl.
 
 use super::WcCore;
 use crate::boundary::wall::Wall;
@@ -60,12 +59,14 @@ impl WcSpace<2> for Const<2> {
 impl WcSpace<3> for Const<3> {
     #[inline]
     fn pass1<K: Kernel<3>, R: Rheology>(core: &mut WcCore<K, R, 3>, fl: &Fluid<3>) {
-        core.pass1_plain(fl);
+        core.pack_kinematics();
+        core.pass1_packed(fl);
     }
 
     #[inline]
     fn pass2<K: Kernel<3>, R: Rheology>(core: &mut WcCore<K, R, 3>, fl: &Fluid<3>) {
-        core.pass2_plain(fl)
+        core.pack_stresses();
+        core.pass2_packed(fl)
     }
 
     fn void_fraction(_: &Fluid<3>, _: Option<usize>, _: &[Wall<3>], _: f64) -> Option<f64> {
