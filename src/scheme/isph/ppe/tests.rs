@@ -688,10 +688,10 @@ fn coupled_by_entries<const N: usize>(
 ) -> (CsrMatrix, Vec<f64>) {
     let mut rows = Vec::new();
     let mut b = Vec::new();
-    for i in 0..n_fluid {
+    for (i, &rhs_i) in rhs.iter().enumerate().take(n_fluid) {
         let off = nl.offset(i);
         let mut r: Vec<Vec<(u32, f64)>> = vec![Vec::new(); N];
-        let mut bi = rhs[i];
+        let mut bi = rhs_i;
         let mut diag = 1.0;
         let with_surface = surf.k[i] != Vector::<N>::zeros();
         let mut e_ii = Tensor::<N>::zeros();
@@ -801,12 +801,18 @@ fn coupled_assembly_matches_the_entry_lists<const N: usize>(per_side: usize) {
             if j as usize != i && p % 7 != 3 {
                 coef[p] = -(1.0 + rnd()) / (dr * dr);
             }
-            w[p] = Vector::<N>::from_fn(|d, _| if (p + d) % 5 == 0 { 0.0 } else { rnd() / dr });
+            w[p] = Vector::<N>::from_fn(|d, _| {
+                if (p + d).is_multiple_of(5) {
+                    0.0
+                } else {
+                    rnd() / dr
+                }
+            });
         }
     }
     let k: Vec<Vector<N>> = (0..n)
         .map(|i| {
-            if i % 3 == 0 {
+            if i.is_multiple_of(3) {
                 Vector::<N>::from_fn(|_, _| 0.05 * rnd() * dr)
             } else {
                 Vector::<N>::zeros()
