@@ -7,6 +7,8 @@
 //! De = 1, beta = 0.1, the defaults; DIM 2 or 3, default 2).
 //! Prints a progress line every t* = 1 (W* and the time so far) and a table row at the end. The
 //! run is `viscosph bench isph`'s, without its outputs every 0.05 t* (W* is read once per t*).
+//! A last line prints a hash of the final positions' and velocities' bits, to check that two
+//! builds compute the same run.
 
 use std::time::Instant;
 use viscosph::config::Value;
@@ -22,6 +24,25 @@ fn cpu_seconds() -> f64 {
     let tick = 100.0; // sysconf(_SC_CLK_TCK) on Linux
     let get = |k: usize| f.get(k).and_then(|s| s.parse::<f64>().ok()).unwrap_or(0.0);
     (get(11) + get(12)) / tick
+}
+
+/// FNV-1a hash of the bits of every fluid position and velocity: two builds that claim the
+/// same arithmetic must print the same fingerprint.
+fn fingerprint(sim: &Simulation) -> u64 {
+    let bits: Vec<u64> = match sim.state_3d() {
+        Some(st) => (st.fluid.x.iter().chain(&st.fluid.v))
+            .flat_map(|v| v.iter().map(|c| c.to_bits()))
+            .collect(),
+        None => {
+            let f = &sim.state().fluid;
+            (f.x.iter().chain(&f.v))
+                .flat_map(|v| v.iter().map(|c| c.to_bits()))
+                .collect()
+        }
+    };
+    bits.iter().fold(0xcbf2_9ce4_8422_2325, |h, b| {
+        (h ^ b).wrapping_mul(0x0100_0000_01b3)
+    })
 }
 
 /// Steps, the solvers' iterations and the particle count of a 2D or 3D run.
@@ -95,5 +116,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         100.0 * tm.part("viscous solve") / tot,
         error.map(|e| format!(" broke down: {e}")).unwrap_or_default()
     );
+    println!("state fingerprint {:016x}", fingerprint(&sim));
     Ok(())
 }

@@ -211,11 +211,27 @@ fn run(dump: Option<&str>) {
                 s2.matrix.matvec(&s2.rhs, &mut z);
             }
             let tm = t.elapsed().as_secs_f64() * 1e2;
+            // Cold solves with the V- and the W-cycle (iterations, and ms with set-up).
+            let cycles: Vec<String> = [1, 2]
+                .iter()
+                .map(|&visits| {
+                    let t = Instant::now();
+                    let m = Factor::Amg(Box::new(Amg::with_visits(&s2.matrix, visits).unwrap()));
+                    let mut p = vec![0.0; n];
+                    let st = bicgstab(&s2.matrix, &m, &s2.rhs, &mut p, &SolverOptions::default());
+                    let it = st.map_or(usize::MAX, |s| s.iterations);
+                    format!(
+                        "{visits} visits: {it} it {:.1} ms",
+                        t.elapsed().as_secs_f64() * 1e3
+                    )
+                })
+                .collect();
             eprintln!(
-                "{}: sizes {:?} nnz {:?} setup {ts:.2} ms cycle {tc:.2} ms matvec {tm:.2} ms",
+                "{}: sizes {:?} nnz {:?} setup {ts:.2} ms cycle {tc:.2} ms matvec {tm:.2} ms; {}",
                 c.name,
                 amg.sizes(&s2.matrix),
-                amg.nnz(&s2.matrix)
+                amg.nnz(&s2.matrix),
+                cycles.join(", ")
             );
         }
         let mut cells = Vec::new();

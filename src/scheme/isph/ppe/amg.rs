@@ -1,5 +1,5 @@
 //! Smoothed-aggregation algebraic multigrid (Vanek, Mandel & Brezina 1996) as a BiCGStab
-//! preconditioner: one V-cycle per application, damped Jacobi smoothing.
+//! preconditioner: one W-cycle per application, damped Jacobi smoothing.
 //!
 //! **Why.** ILU(0)'s iterations grow like the inverse mesh size (8.6 / 23.5 / 59.2 PPE
 //! iterations per solve at 10^3 / 10^4 / 10^5 particles in `viscosph bench scaling`) and its
@@ -25,6 +25,12 @@
 //! * *Smoother*: [`SWEEPS`] damped Jacobi sweeps (weight `w` above) before and after the
 //!   coarse correction; one sweep each let the iterations grow from 6 to 11 between 1,300 and
 //!   80,000 particles, two from 5-6 to 9.
+//! * *Cycle*: each coarse level is visited [`CYCLE_VISITS`] = 2 times per visit of the level
+//!   above (the W-cycle; the second visit corrects the coarse solution with its residual), the
+//!   coarsest once (it is solved exactly). With the V-cycle (one visit) the cold disc solves
+//!   below took 5-6 iterations at 1,300 rows and 9 at 80,000; with the W-cycle 5-6 and 6, and
+//!   at 20,000-80,000 rows the W-cycle's solve cost 10-28 % less despite its dearer cycle
+//!   (`ppe_bench`'s stderr line compares the two).
 //! * *Coarse matrix*: Galerkin `A_c = P^T A P`, restriction `R = P^T`.
 //! * *Coarsest level*: dense LU with partial pivoting.
 //!
@@ -39,7 +45,7 @@
 //! for strongly non-symmetric (convection-dominated) systems a Petrov-Galerkin restriction built
 //! from `A^T` (Sala & Tuminaro 2008) would be the next step.
 //!
-//! **Measured** (`cargo run --release --example ppe_bench 1`, the PPE of a disc, quintic
+//! **Measured with the V-cycle** (`cargo run --release --example ppe_bench 1`, the PPE of a disc, quintic
 //! kernel h = 1.3 dr, outer ring Dirichlet, BiCGStab to 1e-8 from zero; iterations, and ms per
 //! solve with assembly and set-up at one thread on a 2-core AMD EPYC shared with other builds,
 //! so the times are indicative):
@@ -74,6 +80,9 @@ pub const AMG_MIN_ROWS: usize = 20_000;
 pub const STRENGTH: f64 = 0.08;
 /// Damped Jacobi sweeps before and after the coarse correction (module documentation).
 pub const SWEEPS: usize = 2;
+/// Visits of each coarse level per visit of the level above: 1 is the V-cycle, 2 the W-cycle
+/// (module documentation).
+pub const CYCLE_VISITS: usize = 2;
 /// Largest coarsest level, solved by dense LU.
 pub const COARSE_MAX: usize = 300;
 /// Most levels of the hierarchy.
@@ -231,6 +240,8 @@ pub struct Amg {
     coarse: Vec<CsrMatrix>,
     /// The coarsest level's solver.
     bottom: Bottom,
+    /// Visits of each coarse level per visit of the level above (1: V-cycle, 2: W-cycle).
+    visits: usize,
 }
 
 /// How the coarsest level is solved.
@@ -483,8 +494,14 @@ fn smoother_weights(a: &CsrMatrix, inv_diag: &[f64], omega: f64) -> Vec<f64> {
 }
 
 impl Amg {
-    /// Build the hierarchy of `a`.
+    /// Build the hierarchy of `a`, cycled with [`CYCLE_VISITS`].
     pub fn new(a: &CsrMatrix) -> Result<Self, SolveError> {
+        Self::with_visits(a, CYCLE_VISITS)
+    }
+
+    /// Build the hierarchy of `a`, each coarse level visited `visits` times per visit of the
+    /// level above (1: V-cycle, 2: W-cycle; at least 1).
+    pub fn with_visits(a: &CsrMatrix, visits: usize) -> Result<Self, SolveError> {
         let mut levels = Vec::new();
         let mut coarse: Vec<CsrMatrix> = Vec::new();
         loop {
@@ -528,6 +545,7 @@ impl Amg {
             levels,
             coarse,
             bottom,
+            visits: visits.max(1),
         })
     }
 
@@ -550,7 +568,7 @@ impl Amg {
             .collect()
     }
 
-    /// z = one V-cycle applied to r, from z = 0.
+    /// z = one cycle ([`CYCLE_VISITS`]) applied to r, from z = 0.
     pub fn apply(&self, a: &CsrMatrix, r: &[f64], z: &mut [f64]) {
         self.cycle(0, a, r, z);
     }
@@ -588,6 +606,20 @@ impl Amg {
         lv.r.apply(&t, &mut rc, false);
         let mut zc = vec![0.0; nc];
         self.cycle(l + 1, a, &rc, &mut zc);
+        // Further visits (W-cycle) correct the coarse solution with the coarse residual; the
+        // coarsest level is solved exactly, so it is visited once.
+        if self.visits > 1 && l + 1 < self.levels.len() {
+            let mc = &self.coarse[l];
+            let (mut tc, mut dz) = (vec![0.0; nc], vec![0.0; nc]);
+            for _ in 1..self.visits {
+                residual(mc, &rc, &zc, &mut tc);
+                self.cycle(l + 1, a, &tc, &mut dz);
+                zc.par_iter_mut()
+                    .zip(dz.par_iter())
+                    .with_min_len(ROW_CHUNK)
+                    .for_each(|(z, d)| *z += d);
+            }
+        }
         lv.p.apply(&zc, z, true);
         for _ in 0..SWEEPS {
             sweep(m, &lv.weight, r, z, &mut t);
@@ -741,6 +773,7 @@ mod tests {
                 })
         };
         let (one, two) = (run(1), run(2));
+        assert_eq!(CYCLE_VISITS, 2, "the W-cycle is the one checked here");
         assert!(one.2.len() >= 3, "{:?}", one.2);
         assert_eq!(one.0, two.0);
         assert_eq!((&one.2, &one.3), (&two.2, &two.3));

@@ -12,7 +12,7 @@ pub enum Preconditioner {
     Ssor,
     /// Incomplete LU factorisation with the matrix's own sparsity pattern.
     Ilu0,
-    /// One V-cycle of smoothed-aggregation algebraic multigrid ([`Amg`]).
+    /// One W-cycle of smoothed-aggregation algebraic multigrid ([`Amg`]).
     Amg,
     /// Block Jacobi: the inverse of each `k x k` diagonal block (rows and columns `k b ..
     /// k b + k`), for systems with `k` unknowns per particle interleaved (the coupled viscous
@@ -272,12 +272,13 @@ fn block_inverses(a: &CsrMatrix, k: usize) -> Result<Vec<f64>, SolveError> {
             // [block | I] reduced to [I | block^-1].
             let mut m = vec![0.0; 2 * k * k];
             for r in 0..k {
+                // The block's columns, found by bisection in the ascending row (a coupled 3D
+                // row holds ~750 entries, the block 3).
                 let (cols, vals) = a.row(k * b + r);
-                for (&c, &v) in cols.iter().zip(vals) {
-                    let c = c as usize;
-                    if c >= k * b && c < k * b + k {
-                        m[2 * k * r + c - k * b] = v;
-                    }
+                let lo = cols.partition_point(|&c| (c as usize) < k * b);
+                let hi = cols.partition_point(|&c| (c as usize) < k * b + k);
+                for (&c, &v) in cols[lo..hi].iter().zip(&vals[lo..hi]) {
+                    m[2 * k * r + c as usize - k * b] = v;
                 }
                 m[2 * k * r + k + r] = 1.0;
             }

@@ -97,13 +97,10 @@ impl<const N: usize> SurfaceTraction<'_, N> {
     }
 }
 
-/// The two rows (x and y components) of one particle, as (column, value) lists.
-type Rows<const N: usize> = [Vec<(u32, f64)>; N];
-
 /// The implicit viscous step with the surface traction: `(I - dt nu lap) u - dt T(u) / rho =
-/// rhs` for both components at once, unknowns interleaved (`2 i + c`), one BiCGStab + ILU(0)
-/// solve. Ghosts as in [`solve_viscous`] (the same sign for both components). Rows without a
-/// surface term are those of [`assemble_helmholtz`] for each component.
+/// rhs` for all components at once, unknowns interleaved (`N i + c`), one BiCGStab solve.
+/// Ghosts as in [`solve_viscous`] (the same sign for every component). Rows without a surface
+/// term are those of [`assemble_helmholtz`] for each component.
 #[allow(clippy::too_many_arguments)]
 pub fn solve_viscous_coupled<const N: usize>(
     n_fluid: usize,
@@ -118,6 +115,81 @@ pub fn solve_viscous_coupled<const N: usize>(
     surf: &SurfaceTraction<N>,
     opts: &SolverOptions,
 ) -> Result<SolveStats, SolveError> {
+    let sys = assemble_coupled(
+        n_fluid,
+        nl,
+        coef,
+        dt_nu,
+        ghost_parent,
+        ghost_sign,
+        ghost_offset,
+        rhs,
+        surf,
+    );
+    let mut x: Vec<f64> = u.iter().flat_map(|v| v.iter().copied()).collect();
+    let stats = solve(&sys, &mut x, opts)?;
+    for (ui, xi) in u.iter_mut().zip(x.chunks_exact(N)) {
+        ui.copy_from_slice(xi);
+    }
+    Ok(stats)
+}
+
+/// One particle's `N` rows of the coupled system: the columns and values of each row (columns
+/// ascending), their lengths and the diagonal's position in each.
+struct ParticleRows {
+    col: Vec<u32>,
+    val: Vec<f64>,
+    len: Vec<usize>,
+    diag: Vec<usize>,
+}
+
+/// An `N x N` block of the coupled matrix being summed: each entry's value and whether any
+/// term has reached it (an entry no term reaches is not stored, as in [`CsrMatrix::from_rows`]).
+struct BlockSum<const N: usize> {
+    val: [[f64; N]; N],
+    set: [[bool; N]; N],
+}
+
+impl<const N: usize> BlockSum<N> {
+    fn new() -> Self {
+        Self {
+            val: [[0.0; N]; N],
+            set: [[false; N]; N],
+        }
+    }
+
+    /// Add one term to entry (c, d): the first term is stored as is and later ones are summed in
+    /// the order they come, exactly as `from_rows` merges a column's duplicates.
+    #[inline]
+    fn add(&mut self, c: usize, d: usize, v: f64) {
+        if self.set[c][d] {
+            self.val[c][d] += v;
+        } else {
+            self.val[c][d] = v;
+            self.set[c][d] = true;
+        }
+    }
+}
+
+/// The matrix and right-hand side of [`solve_viscous_coupled`], assembled one particle (one
+/// `N x N` block row) at a time. The rows are those that per-entry lists merged by
+/// [`CsrMatrix::from_rows`] give, bit for bit (same stored entries, each summed in the same
+/// order), without sorting the `N` rows of `N x` (neighbours) entries each: only the
+/// particle's neighbours are sorted once, by the column their value lands in (a ghost's lands
+/// in its parent's), and each block is summed in neighbour order. In 3D with the surface
+/// traction a row holds ~750 entries: sorting them was most of the assembly.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn assemble_coupled<const N: usize>(
+    n_fluid: usize,
+    nl: &NeighborList,
+    coef: &[f64],
+    dt_nu: f64,
+    ghost_parent: &[u32],
+    ghost_sign: &[f64],
+    ghost_offset: &[Vector<N>],
+    rhs: &[Vector<N>],
+    surf: &SurfaceTraction<N>,
+) -> LinearSystem {
     assert!(nl.len() >= n_fluid);
     assert_eq!(coef.len(), nl.pairs());
     assert_eq!(surf.w.len(), nl.pairs());
@@ -133,80 +205,143 @@ pub fn solve_viscous_coupled<const N: usize>(
                 .unwrap_or_else(Vector::<N>::zeros),
         )
     };
-    let per_particle: Vec<(Rows<N>, Vector<N>)> = (0..n_fluid)
+    // Where neighbour j's value lands: (column particle, sign, shift), u_j = s u_col + shift.
+    let target = |j: usize| -> (usize, f64, Vector<N>) {
+        if j < n_fluid {
+            (j, 1.0, Vector::<N>::zeros())
+        } else {
+            link(j - n_fluid)
+        }
+    };
+    // The self entry's marker in the sorted neighbour keys: after every neighbour of the same
+    // column, as the diagonal terms come after the neighbour loop.
+    const SELF: u64 = u32::MAX as u64;
+    let per_particle: Vec<(ParticleRows, Vector<N>)> = (0..n_fluid)
         .into_par_iter()
         .map(|i| {
             let off = nl.offset(i);
-            let mut rows: Rows<N> =
-                std::array::from_fn(|_| Vec::with_capacity(N * nl.of(i).len() + N));
+            let with_surface = surf.k[i] != Vector::<N>::zeros();
+            let pair = |kk: usize| -> Tensor<N> {
+                if with_surface {
+                    surf.pair(i, off + kk)
+                } else {
+                    Tensor::<N>::zeros()
+                }
+            };
+            // Row (i, c): a (u_ic - u_jc) - sum_d e_cd (u_jd - u_id), e_cd the surface term's
+            // coefficient of (u_j - u_i)_d. The diagonal, e_ii and b sum in neighbour order.
             let mut b = rhs[i];
             let mut diag = 1.0;
-            let with_surface = surf.k[i] != Vector::<N>::zeros();
-            // e_cd: the surface term's coefficient of (u_j - u_i)_d in row (i, c).
             let mut e_ii = Tensor::<N>::zeros();
+            let mut keys: Vec<u64> = Vec::with_capacity(nl.of(i).len() + 1);
             for (kk, &j) in nl.of(i).iter().enumerate() {
                 let j = j as usize;
                 if j == i {
                     continue;
                 }
                 let a = -dt_nu * coef[off + kk];
-                let e = if with_surface {
-                    surf.pair(i, off + kk)
-                } else {
-                    Tensor::<N>::zeros()
-                };
-                let (col, s, shift) = if j < n_fluid {
-                    (j, 1.0, Vector::<N>::zeros())
-                } else {
-                    link(j - n_fluid)
-                };
-                // Row (i, c): a (u_ic - u_jc) - sum_d e_cd (u_jd - u_id), u_j = s u_col + shift.
+                let e = pair(kk);
+                let (col, _, shift) = target(j);
                 diag += a;
                 e_ii += e;
                 b += shift * a + e * shift;
-                for (c, row) in rows.iter_mut().enumerate() {
-                    if col == i {
-                        // A ghost of the particle itself (a mirror across a wall).
-                        row.push(((N * i + c) as u32, -a * s));
-                    } else if a != 0.0 {
-                        row.push(((N * col + c) as u32, -a * s));
+                keys.push(((col as u64) << 32) | kk as u64);
+            }
+            keys.push(((i as u64) << 32) | SELF);
+            keys.sort_unstable();
+            // Blocks in ascending column, each summed over its neighbours in list order.
+            let mut blocks: Vec<(usize, BlockSum<N>)> = Vec::with_capacity(keys.len());
+            for &key in &keys {
+                let col = (key >> 32) as usize;
+                if blocks.last().is_none_or(|(c, _)| *c != col) {
+                    blocks.push((col, BlockSum::new()));
+                }
+                let blk = &mut blocks.last_mut().expect("pushed").1;
+                if key & SELF == SELF {
+                    for c in 0..N {
+                        blk.add(c, c, diag);
+                        if with_surface {
+                            for d in 0..N {
+                                blk.add(c, d, e_ii[(c, d)]);
+                            }
+                        }
+                        // from_rows' inserted diagonal.
+                        blk.add(c, c, 0.0);
+                    }
+                    continue;
+                }
+                let kk = (key & SELF) as usize;
+                let a = -dt_nu * coef[off + kk];
+                let e = pair(kk);
+                let s = target(nl.of(i)[kk] as usize).1;
+                for c in 0..N {
+                    if col == i || a != 0.0 {
+                        blk.add(c, c, -a * s);
                     }
                     if with_surface {
                         for d in 0..N {
                             if e[(c, d)] != 0.0 {
-                                row.push(((N * col + d) as u32, -e[(c, d)] * s));
+                                blk.add(c, d, -e[(c, d)] * s);
                             }
                         }
                     }
                 }
             }
-            for (c, row) in rows.iter_mut().enumerate() {
-                row.push(((N * i + c) as u32, diag));
-                if with_surface {
+            let mut out = ParticleRows {
+                col: Vec::with_capacity(N * N * blocks.len()),
+                val: Vec::with_capacity(N * N * blocks.len()),
+                len: Vec::with_capacity(N),
+                diag: Vec::with_capacity(N),
+            };
+            for c in 0..N {
+                let start = out.col.len();
+                for (col, blk) in &blocks {
                     for d in 0..N {
-                        row.push(((N * i + d) as u32, e_ii[(c, d)]));
+                        if blk.set[c][d] {
+                            if *col == i && d == c {
+                                out.diag.push(out.col.len() - start);
+                            }
+                            out.col.push((N * col + d) as u32);
+                            out.val.push(blk.val[c][d]);
+                        }
                     }
                 }
+                out.len.push(out.col.len() - start);
             }
-            (rows, b)
+            (out, b)
         })
         .collect();
-    let mut rows = Vec::with_capacity(N * n_fluid);
-    let mut b = Vec::with_capacity(N * n_fluid);
-    for (r, bi) in per_particle {
-        rows.extend(r);
-        b.extend(bi.iter());
+    let mut row_ptr = Vec::with_capacity(N * n_fluid + 1);
+    let mut diag = Vec::with_capacity(N * n_fluid);
+    row_ptr.push(0);
+    for (p, _) in &per_particle {
+        for (len, d) in p.len.iter().zip(&p.diag) {
+            let start = *row_ptr.last().expect("non-empty");
+            diag.push(start + d);
+            row_ptr.push(start + len);
+        }
     }
-    let sys = LinearSystem {
-        matrix: CsrMatrix::from_rows(rows),
+    let col = per_particle
+        .par_iter()
+        .flat_map_iter(|(p, _)| p.col.iter().copied())
+        .collect();
+    let val = per_particle
+        .par_iter()
+        .flat_map_iter(|(p, _)| p.val.iter().copied())
+        .collect();
+    let b = per_particle
+        .iter()
+        .flat_map(|(_, bi)| bi.iter().copied())
+        .collect();
+    LinearSystem {
+        matrix: CsrMatrix {
+            row_ptr,
+            col,
+            val,
+            diag,
+        },
         rhs: b,
         anchor: None,
         fixed: Vec::new(),
-    };
-    let mut x: Vec<f64> = u.iter().flat_map(|v| v.iter().copied()).collect();
-    let stats = solve(&sys, &mut x, opts)?;
-    for (ui, xi) in u.iter_mut().zip(x.chunks_exact(N)) {
-        ui.copy_from_slice(xi);
     }
-    Ok(stats)
 }
