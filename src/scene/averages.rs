@@ -243,7 +243,9 @@ impl FieldAverage {
     /// within [`NEAREST`] spacings (a lattice leaves no point of the fluid farther than
     /// sqrt(1/2) spacings from a particle, and the first particles sit half a spacing from a
     /// wall). Second order whatever the particles' arrangement (ring or square lattice, one
-    /// side of a wall).
+    /// side of the cylinder); within one and a half spacings of a straight wall only two rows
+    /// are in reach, the quadratic is not determined across them and the value is the
+    /// weighted mean (measured: 1.0782 for 1.0893 on the first row of a quadratic field).
     pub fn interpolate(&self, at: &[Vec2]) -> Option<Vec<Option<([f64; 5], u64)>>> {
         let means = self.particles()?;
         let h = self.dx;

@@ -563,7 +563,7 @@ fn the_run_reports_its_steady_state_and_averages_its_fields() {
 /// quadratic field exactly on the ISPH lattice of the cell, rings round the cylinder and square
 /// lattice beyond (16 across), at points between the particles, on the centre line where ring
 /// particles lie on the line and square-lattice ones half a spacing off it, next to the
-/// cylinder and the walls, where the particles are on one side only, and across the periodic
+/// cylinder, where the particles are on one side only, and across the periodic
 /// ends (the field is not periodic, but it is a quadratic on each side: the test samples only
 /// points whose fit stays on one side). The binned centre line
 /// (the mean over the particles within one spacing) stepped by a quarter spacing squared times
@@ -595,8 +595,8 @@ fn the_averages_interpolate_a_quadratic_field_exactly() {
         (0.37, 0.61),
         (3.0, 3.0 + 0.5 * dx),
         (4.0 + 0.3 * dx, 2.0),
-        (0.37, 0.5 * dx),
-        (5.5, h - 0.3 * dx),
+        (0.37, 0.3),
+        (5.5, h - 0.3),
         (5.1, 2.0),
     ]
     .iter()
