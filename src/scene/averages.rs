@@ -52,6 +52,9 @@ pub struct SteadyWindow {
 /// for a model without a conformation tensor).
 pub const FIELDS: [&str; 5] = ["u", "v", "trace_A", "tau_xx", "det_A"];
 
+/// An interpolated value ([`FieldAverage::interpolate`]): the five fields and the particles used.
+pub type Sample = ([f64; 5], u64);
+
 /// Sums over the particles seen in each bin.
 #[derive(Debug, Clone)]
 struct Bins {
@@ -246,7 +249,7 @@ impl FieldAverage {
     /// side of the cylinder); within one and a half spacings of a straight wall only two rows
     /// are in reach, the quadratic is not determined across them and the value is the
     /// weighted mean (measured: 1.0782 for 1.0893 on the first row of a quadratic field).
-    pub fn interpolate(&self, at: &[Vec2]) -> Option<Vec<Option<([f64; 5], u64)>>> {
+    pub fn interpolate(&self, at: &[Vec2]) -> Option<Vec<Option<Sample>>> {
         let means = self.particles()?;
         let h = self.dx;
         let radius = FIT_RADIUS * h;
