@@ -64,7 +64,7 @@ pub enum BenchKind {
     Channel(channel::ChannelArgs),
     /// King & Lind's periodic array of cylinders: Wi sweep per scheme to the steady state, cost
     /// against Wi, Newtonian drag against resolution, Figs. 9-11 (see `bench/cylinders.rs`).
-    Cylinders,
+    Cylinders(cylinders::CylindersArgs),
     /// ISPH (King & Lind 2021) on their Newtonian Re = 4 drop: cost with the implicit and the
     /// explicit viscous step (steps, PPE iterations per step, share of time in the linear
     /// solves), convergence of W*(t*) at W/dr = 20, 40, 80, and the volume it keeps.
@@ -95,7 +95,7 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
         BenchKind::Rheologies => Some("rheologies"),
         BenchKind::Jet => Some("jet"),
         BenchKind::Channel(_) => Some("channel"),
-        BenchKind::Cylinders => Some("cylinders"),
+        BenchKind::Cylinders(_) => Some("cylinders"),
         BenchKind::Isph => Some("isph"),
         BenchKind::Report { .. } | BenchKind::Replot => None,
     };
@@ -108,7 +108,7 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
         BenchKind::Rheologies => rheologies::bench_rheologies(&args.out, args.quick)?,
         BenchKind::Jet => jet::bench_jet(&args.out, args.quick)?,
         BenchKind::Channel(ref c) => channel::main(c, &args.out, args.quick)?,
-        BenchKind::Cylinders => cylinders::bench_cylinders(&args.out, args.quick)?,
+        BenchKind::Cylinders(ref c) => cylinders::bench_cylinders(c, &args.out, args.quick)?,
         BenchKind::Isph => isph::bench_isph(&args.out, args.quick)?,
         BenchKind::Report { ref docs } => report::bench_report(&args.out, docs)?,
         BenchKind::Replot => accuracy::bench_replot(&args.out)?,

@@ -324,6 +324,7 @@ fn snapshot(sim: &Simulation) -> Vec<plot::Snapshot> {
                     .collect(),
                 axes: (axes.0.to_string(), axes.1.to_string()),
                 splat: top,
+                outline: Vec::new(),
             }
         })
         .collect()

@@ -323,6 +323,7 @@ pub fn steady_window(cfg: &SceneConfig, st: &State) -> Option<SteadyWindow> {
         lower: Vec2::zeros(),
         upper: Vec2::new(period(cfg), height(cfg)),
         centre_line: 0.5 * height(cfg),
+        periodic_x: true,
     })
 }
 

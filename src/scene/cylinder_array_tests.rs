@@ -558,3 +558,77 @@ fn the_run_reports_its_steady_state_and_averages_its_fields() {
     let fastest = line.iter().map(|(_, m, _)| m[0]).fold(f64::MIN, f64::max);
     assert!(fastest > u && line.iter().all(|(_, m, _)| m[0] > -0.1 * u && m[2] == 0.0));
 }
+
+/// The averages' interpolation ([`super::super::FieldAverage::interpolate`]) reproduces a
+/// quadratic field exactly on the ISPH lattice of the cell, rings round the cylinder and square
+/// lattice beyond (16 across), at points between the particles, on the centre line where ring
+/// particles lie on the line and square-lattice ones half a spacing off it, next to the
+/// cylinder, where the particles are on one side only, and across the periodic
+/// ends (the field is not periodic, but it is a quadratic on each side: the test samples only
+/// points whose fit stays on one side). The binned centre line
+/// (the mean over the particles within one spacing) stepped by a quarter spacing squared times
+/// the field's curvature there.
+#[test]
+fn the_averages_interpolate_a_quadratic_field_exactly() {
+    let cfg = cell("isph", 16);
+    let sim = Simulation::new(cfg).unwrap();
+    let mut st = sim.state().clone();
+    let f = |p: &Vec2| 1.0 + 0.3 * p.x - 0.7 * p.y + 0.2 * p.x * p.x - 0.4 * p.x * p.y + p.y * p.y;
+    for (v, x) in st.fluid.v.iter_mut().zip(&st.fluid.x) {
+        *v = Vec2::new(f(x), 0.0);
+    }
+    let (l, h) = (period(sim.config()), height(sim.config()));
+    let window = SteadyWindow {
+        start: 0.0,
+        end: 1.0,
+        stop: false,
+        lower: Vec2::zeros(),
+        upper: Vec2::new(l, h),
+        centre_line: 0.5 * h,
+        periodic_x: true,
+    };
+    let mut avg = super::super::FieldAverage::new(sim.effective_config(), window);
+    avg.add(&st);
+    avg.add(&st);
+    let dx = sim.config().dx();
+    let points: Vec<Vec2> = [
+        (0.37, 0.61),
+        (3.0, 3.0 + 0.5 * dx),
+        (4.0 + 0.3 * dx, 2.0),
+        (0.37, 0.3),
+        (5.5, h - 0.3),
+        (5.1, 2.0),
+    ]
+    .iter()
+    .map(|&(x, y)| Vec2::new(x, y))
+    .collect();
+    let got = avg.interpolate(&points).expect("the Eulerian particles stay put");
+    for (p, g) in points.iter().zip(&got) {
+        let (m, n) = g.expect("particles near every point");
+        assert!(n >= 6, "{p:?}: {n} particles");
+        assert!((m[0] - f(p)).abs() < 1e-9, "{p:?}: {} against {}", m[0], f(p));
+    }
+    // Across the periodic ends: a field of y alone (periodic along x) at x = 0 and x = L.
+    let g = |p: &Vec2| 2.0 - 0.5 * p.y + 0.8 * p.y * p.y;
+    for (v, x) in st.fluid.v.iter_mut().zip(&st.fluid.x) {
+        *v = Vec2::new(f(x), g(x));
+    }
+    let mut avg_y = super::super::FieldAverage::new(sim.effective_config(), window);
+    avg_y.add(&st);
+    let ends = [Vec2::new(0.1 * dx, 1.3), Vec2::new(l - 0.1 * dx, 0.3)];
+    for (p, v) in ends.iter().zip(avg_y.interpolate(&ends).unwrap()) {
+        let (m, n) = v.expect("particles near the ends");
+        assert!(n >= 6 && (m[1] - g(p)).abs() < 1e-9, "{p:?}: {} against {}", m[1], g(p));
+    }
+    // Inside the cylinder no value: there the nearest particle is more than 0.75 spacings away.
+    assert!(avg.interpolate(&[Vec2::new(3.0, 2.0 + 0.6)]).unwrap()[0].is_none());
+    let line = avg.centre_line();
+    let outside = (0..(l / dx).round() as usize)
+        .filter(|&i| ((i as f64 + 0.5) * dx - 3.0).abs() > 1.0)
+        .count();
+    assert!(line.len() >= outside && line.len() <= outside + 2, "{}", line.len());
+    for (x, m, _) in &line {
+        let p = Vec2::new(*x, 0.5 * h);
+        assert!((m[0] - f(&p)).abs() < 1e-9, "centre line at x = {x}");
+    }
+}

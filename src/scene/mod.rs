@@ -17,7 +17,7 @@ mod configuration;
 pub mod report;
 mod table;
 
-pub use averages::{FieldAverage, SteadyWindow};
+pub use averages::{FieldAverage, Sample, SteadyWindow};
 pub use configuration::{Inputs, MAX_PARTICLES};
 pub use report::{time_text, NoPredictions, Prediction, Predictions, TimePlot, TimePlotPanel};
 pub use table::{

@@ -18,9 +18,13 @@
 //!   and 16; ISPH's Oldroyd-B K at lambda = 0.2 and 0.6 s against the finite elements' 89.066
 //!   and 81.924 at 12, 16 and 24 across.
 //! * **Figures** in the style of King & Lind's Figs. 9-11 from the averaged fields
-//!   (`scene::FieldAverage`): speed and tr A in the cell with the cylinder drawn, the
-//!   centre-line u/⟨u⟩ and tau_xx at Wi = 0.2, 0.6, 0.8 with the finite elements' Newtonian
-//!   and Oldroyd-B profiles, det A along the centre line for every Wi reached.
+//!   (`scene::FieldAverage`): speed and tr A in the cell on a grid of half a spacing with the
+//!   cylinder drawn over them, the centre-line u/⟨u⟩ and tau_xx at Wi = 0.2, 0.6, 0.8 with the
+//!   finite elements' Newtonian and Oldroyd-B profiles (thin black), det A along the centre
+//!   line for every Wi reached; one colour per Wi in every panel.
+//!
+//! `--isph-only`: the ISPH parts alone (sweep, both resolution sweeps, figures), about half the
+//! CPU time.
 //!
 //! `--quick` (the test suite): ISPH at 8 across, Wi = 0 and 0.2 only, asserting what must hold
 //! at 8 across: both runs reach the steady state, Q > 0, K within 15 % of the finite elements
@@ -28,7 +32,7 @@
 //! the same body force, as the finite elements say: 1.0486 against 1.0183 m/s). About 10 s.
 
 use super::{case, machine_description};
-use crate::io::plot::{self, line_panels, Panel, Series};
+use crate::io::plot::{self, line_panels_keyed, Panel, Series, REFERENCE_PREFIX};
 use crate::run::{mean_speed, run, RunOptions, RunResult};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -166,8 +170,17 @@ fn log_slope(points: &[(f64, f64)]) -> f64 {
     sxy / sxx
 }
 
-pub fn bench_cylinders(out: &Path, quick: bool) -> BenchResult<String> {
-    let schemes: Vec<Scheme> = if quick {
+/// Options of `viscosph bench cylinders`.
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct CylindersArgs {
+    /// ISPH only: its Wi sweep, its Newtonian and Oldroyd-B resolution sweeps and the figures
+    /// (about half the CPU time of the whole); WCSPH and PDRI are left out.
+    #[arg(long)]
+    pub isph_only: bool,
+}
+
+pub fn bench_cylinders(args: &CylindersArgs, out: &Path, quick: bool) -> BenchResult<String> {
+    let mut schemes: Vec<Scheme> = if quick {
         vec![Scheme {
             label: "isph",
             pairs: vec![("scheme", text("isph")), ("isph_frame", text("eulerian"))],
@@ -192,6 +205,9 @@ pub fn bench_cylinders(out: &Path, quick: bool) -> BenchResult<String> {
             },
         ]
     };
+    if args.isph_only {
+        schemes.truncate(1);
+    }
     let wi_list: &[f64] = if quick { &WI_SWEEP[..2] } else { &WI_SWEEP };
     let t_end = if quick { 6.0 } else { 12.0 };
     let mut md = format!(
@@ -199,8 +215,14 @@ pub fn bench_cylinders(out: &Path, quick: bool) -> BenchResult<String> {
          Oldroyd-B beta = 0.59, lambda = Wi s), `stop_at_steady_state = 1`: each run ends three \
          time units R/⟨u⟩ after King & Lind's steady state (or at t = {t_end} s), and its \
          figures are the means over those three units. Eulerian ISPH. {}; CPU time of the \
-         process (all threads).\n\n",
-        machine_description()
+         process (all threads).{}\n\n",
+        machine_description(),
+        if args.isph_only && !quick {
+            " ISPH only (`--isph-only`): WCSPH and PDRI were not run; `viscosph bench \
+             cylinders` runs them too."
+        } else {
+            ""
+        }
     );
     let mut csv = String::from(
         "part,scheme,across,wi_asked,wi,steady_time,t_end,steps,wall_seconds,cpu_seconds,mean_velocity,fem_mean_velocity,K,fem_K,max_trace,error\n",
@@ -397,6 +419,46 @@ fn outline(centre: (f64, f64), radius: f64) -> Vec<(f64, f64)> {
         .collect()
 }
 
+/// The points and values of a Fig. 9 field, and their spacing: where the particles stayed put
+/// (Eulerian ISPH) a square grid of half a particle spacing (`dx`) over the fluid, each point
+/// with the mean of its nearest particle, so that the squares of the picture tile the fluid
+/// (squares at the particles leave gaps where the ring lattice round the cylinder meets the
+/// square lattice beyond); else the average's cells, one spacing wide. Nearest, not
+/// `FieldAverage::interpolate`: next to the walls under the cylinder, where rings and rows
+/// meet, its quadratic overshot (speed 3.3 m/s on the wall at 8 across).
+fn field_points(
+    a: &viscosph::scene::FieldAverage,
+    centre: (f64, f64),
+    dx: f64,
+) -> (Vec<(viscosph::Vec2, [f64; 5])>, f64) {
+    let Some(particles) = a.particles() else {
+        return (a.cells().into_iter().map(|(c, m, _)| (c, m)).collect(), dx);
+    };
+    let w = a.window();
+    let h = 0.5 * dx;
+    let (nx, ny) = (
+        ((w.upper.x - w.lower.x) / h).round() as usize,
+        ((w.upper.y - w.lower.y) / h).round() as usize,
+    );
+    let c = viscosph::Vec2::new(centre.0, centre.1);
+    let points = (0..ny)
+        .flat_map(|j| {
+            (0..nx).map(move |i| {
+                w.lower + viscosph::Vec2::new((i as f64 + 0.5) * h, (j as f64 + 0.5) * h)
+            })
+        })
+        // The fluid: outside the cylinder (radius 1 m).
+        .filter(|p| (p - c).norm() > 1.0)
+        .filter_map(|p| {
+            particles
+                .iter()
+                .min_by(|a, b| (a.0 - p).norm().total_cmp(&(b.0 - p).norm()))
+                .map(|q| (p, q.1))
+        })
+        .collect();
+    (points, h)
+}
+
 /// King & Lind's Figs. 9-11 from the ISPH sweep (the first scheme).
 fn figures(out: &Path, sweeps: &[(&'static str, Vec<CellRun>)]) -> BenchResult<()> {
     let Some((label, runs)) = sweeps.first() else {
@@ -424,11 +486,8 @@ fn figures(out: &Path, sweeps: &[(&'static str, Vec<CellRun>)]) -> BenchResult<(
             .map(|r| {
                 let a = r.result.averages.as_ref().expect("filtered");
                 let w = a.window();
-                // Per particle where they stayed put (Eulerian ISPH), else the grid's cells.
-                let points: Vec<(viscosph::Vec2, [f64; 5])> = a
-                    .particles()
-                    .unwrap_or_else(|| a.cells().into_iter().map(|(c, m, _)| (c, m)).collect());
                 let centre = (0.5 * (w.lower.x + w.upper.x), 0.5 * (w.lower.y + w.upper.y));
+                let (points, spacing) = field_points(a, centre, 2.0 / r.across as f64);
                 let values: Vec<f64> = points
                     .iter()
                     .map(|(_, m)| match k {
@@ -448,8 +507,8 @@ fn figures(out: &Path, sweeps: &[(&'static str, Vec<CellRun>)]) -> BenchResult<(
                     title,
                     points: points.iter().map(|(c, _)| (c.x, c.y)).collect(),
                     values,
-                    walls: outline(centre, 1.0),
-                    spacing: 2.0 / r.across as f64,
+                    walls: Vec::new(),
+                    spacing,
                     plates: vec![
                         plot::PlateLine {
                             point: (0.0, w.lower.y),
@@ -464,6 +523,7 @@ fn figures(out: &Path, sweeps: &[(&'static str, Vec<CellRun>)]) -> BenchResult<(
                     axes: ("x".into(), "y".into()),
                     // A field, not a lattice: squares one spacing across.
                     splat: true,
+                    outline: outline(centre, 1.0),
                 }
             })
             .collect();
@@ -503,18 +563,23 @@ fn figures(out: &Path, sweeps: &[(&'static str, Vec<CellRun>)]) -> BenchResult<(
             points,
         }
     };
-    let fig10: Vec<&CellRun> = with_fields
+    // Wi = 0 last: the elastic runs come first in every panel (the colours follow the labels
+    // across the panels, `line_panels_keyed`).
+    let mut fig10: Vec<&CellRun> = with_fields
         .iter()
         .copied()
         .filter(|r| PROFILE_WI.contains(&r.wi_asked) || r.wi_asked == 0.0)
         .collect();
+    fig10.sort_by_key(|r| r.wi_asked == 0.0);
     let mut u_series: Vec<Series> = fig10.iter().map(|r| profile(r, 0, true)).collect();
-    u_series.extend(fem_centreline());
-    let tau_series: Vec<Series> = fig10
+    let (fem_u, fem_tau) = fem_centreline();
+    u_series.extend(fem_u);
+    let mut tau_series: Vec<Series> = fig10
         .iter()
         .filter(|r| r.wi_asked > 0.0)
         .map(|r| profile(r, 3, false))
         .collect();
+    tau_series.extend(fem_tau);
     let det_series: Vec<Series> = with_fields
         .iter()
         .filter(|r| r.wi_asked > 0.0 && r.stable())
@@ -527,15 +592,19 @@ fn figures(out: &Path, sweeps: &[(&'static str, Vec<CellRun>)]) -> BenchResult<(
         series,
         log: (false, false),
     };
-    line_panels(
+    line_panels_keyed(
         &out.join("cylinders_centreline.png"),
         &[
             panel(
-                &format!("{label}: u/<u> on the centre line (Fig. 10; thin black: FEM, Wi = 0, 0.2, 0.6)"),
+                &format!("{label}: u/<u> on the centre line (Fig. 10)"),
                 "u / <u>",
                 u_series,
             ),
-            panel("tau_p,xx on the centre line (Fig. 10)", "tau_xx [Pa]", tau_series),
+            panel(
+                "tau_p,xx on the centre line (Fig. 10)",
+                "tau_xx [Pa]",
+                tau_series,
+            ),
             panel("det A on the centre line (Fig. 11)", "det A", det_series),
         ],
         1,
@@ -545,9 +614,10 @@ fn figures(out: &Path, sweeps: &[(&'static str, Vec<CellRun>)]) -> BenchResult<(
 }
 
 /// The finite elements' centre-line u/⟨u⟩ (Newtonian, and Oldroyd-B at lambda 0.2 and 0.6)
-/// against s / R from the rear of the cylinder: the reference curves (empty labels) of Fig. 10, read from
+/// and tau_p,xx [Pa] (Oldroyd-B) against s / R from the rear of the cylinder: the reference
+/// curves of Fig. 10, read from
 /// `validation/cylinder_array/reference/`; none if the files are not there (an installed binary).
-fn fem_centreline() -> Vec<Series> {
+fn fem_centreline() -> (Vec<Series>, Vec<Series>) {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../validation/cylinder_array/reference");
     let read = |file: &str, column: &str| -> Option<Vec<(f64, f64)>> {
         let text = std::fs::read_to_string(dir.join(file)).ok()?;
@@ -566,7 +636,7 @@ fn fem_centreline() -> Vec<Series> {
                 .collect(),
         )
     };
-    [
+    let u: Vec<Series> = [
         ("centreline.csv", "u_over_mean"),
         ("oldroyd_b_centreline.csv", "u_over_mean_lam0.2"),
         ("oldroyd_b_centreline.csv", "u_over_mean_lam0.6"),
@@ -574,10 +644,23 @@ fn fem_centreline() -> Vec<Series> {
     .iter()
     .filter_map(|(f, c)| read(f, c))
     .map(|points| Series {
-        label: String::new(),
+        label: format!("{REFERENCE_PREFIX}FEM (Wi = 0, 0.21, 0.67)"),
         points,
     })
-    .collect()
+    .collect();
+    // tau_xx over eta_s ⟨u⟩ / R (R = 1 m) in the file: times beta eta0 and the FEM's own ⟨u⟩.
+    let tau: Vec<Series> = [(0.2, "tauxx_scaled_lam0.2"), (0.6, "tauxx_scaled_lam0.6")]
+        .iter()
+        .filter_map(|&(lambda, c)| {
+            let scale = 0.59 * 41.66 * at(&FEM_MEAN_VELOCITY, lambda)?;
+            let points = read("oldroyd_b_centreline.csv", c)?;
+            Some(Series {
+                label: format!("{REFERENCE_PREFIX}FEM (Wi = 0.21, 0.67)"),
+                points: points.into_iter().map(|(s, t)| (s, t * scale)).collect(),
+            })
+        })
+        .collect();
+    (u, tau)
 }
 
 /// What `--quick` asserts: physics that holds at 8 across.

@@ -37,7 +37,8 @@ type PlotResult = Result<(), Box<dyn std::error::Error>>;
 
 /// A named line. A series with an empty label is a reference curve (an exact solution drawn
 /// under many computed ones): a thin black line without a legend entry of its own; the legend
-/// then says once what the thin black lines are.
+/// then says once what the thin black lines are. A label starting with [`REFERENCE_PREFIX`]
+/// ("thin black: FEM") is a reference curve too, and the legend says that label once instead.
 pub struct Series {
     pub label: String,
     pub points: Vec<(f64, f64)>,
@@ -170,40 +171,63 @@ fn legend_corner(panel: &Panel, xs: (f64, f64), ys: (f64, f64)) -> Option<Series
     })
 }
 
-/// Legend text of the reference curves (series with an empty label).
+/// Legend text of the reference curves with an empty label.
 const REFERENCE_LABEL: &str = "thin black: exact";
+
+/// A series whose label starts with this is a reference curve named by its label ([`Series`]).
+pub const REFERENCE_PREFIX: &str = "thin black: ";
+
+/// Whether series `s` is a reference curve (thin, black, one legend entry for all).
+fn is_reference(s: &Series) -> bool {
+    s.label.is_empty() || s.label.starts_with(REFERENCE_PREFIX)
+}
 
 /// Whether the panel has reference curves besides labelled ones.
 fn has_references(panel: &Panel) -> bool {
-    panel.series.iter().any(|s| s.label.is_empty())
-        && panel.series.iter().any(|s| !s.label.is_empty())
+    panel.series.iter().any(is_reference) && panel.series.iter().any(|s| !is_reference(s))
+}
+
+/// The legend text of the panel's reference curves: the first prefixed label, else
+/// [`REFERENCE_LABEL`].
+fn reference_label(panel: &Panel) -> String {
+    panel
+        .series
+        .iter()
+        .find(|s| s.label.starts_with(REFERENCE_PREFIX))
+        .map_or_else(|| REFERENCE_LABEL.to_string(), |s| s.label.clone())
 }
 
 /// The legend entries of a panel: (label, colour, line width) of each labelled series, then one
 /// entry for the reference curves if there are any.
-fn legend_entries(panel: &Panel) -> Vec<(String, RGBAColor, u32)> {
+fn legend_entries(panel: &Panel, keys: Option<&[String]>) -> Vec<(String, RGBAColor, u32)> {
     let mut e: Vec<(String, RGBAColor, u32)> = panel
         .series
         .iter()
         .enumerate()
-        .filter(|(_, s)| !s.label.is_empty())
-        .map(|(k, s)| (s.label.clone(), series_color(panel, k), 2))
+        .filter(|(_, s)| !is_reference(s))
+        .map(|(k, s)| (s.label.clone(), series_color(panel, k, keys), 2))
         .collect();
     if has_references(panel) {
-        e.push((REFERENCE_LABEL.into(), BLACK.to_rgba(), 1));
+        e.push((reference_label(panel), BLACK.to_rgba(), 1));
     }
     e
 }
 
-/// Colour of series k: the palette over the labelled series; black for a reference curve.
-fn series_color(panel: &Panel, k: usize) -> RGBAColor {
-    if panel.series[k].label.is_empty() {
+/// Colour of series k: black for a reference curve; otherwise the palette over the labelled
+/// series of the panel, or with `keys` (the labels of the whole figure, [`line_panels_keyed`])
+/// the palette entry of its label, the same in every panel.
+fn series_color(panel: &Panel, k: usize, keys: Option<&[String]>) -> RGBAColor {
+    let s = &panel.series[k];
+    if is_reference(s) {
         return BLACK.to_rgba();
     }
-    let idx = panel.series[..k]
-        .iter()
-        .filter(|s| !s.label.is_empty())
-        .count();
+    let idx = match keys.and_then(|keys| keys.iter().position(|l| *l == s.label)) {
+        Some(idx) => idx,
+        None => panel.series[..k]
+            .iter()
+            .filter(|s| !is_reference(s))
+            .count(),
+    };
     Palette99::pick(idx).to_rgba()
 }
 
@@ -251,12 +275,39 @@ pub fn panel_grid(path: &Path, panels: &[Panel], cols: usize, cell: (u32, u32)) 
 
 /// Panels side by side (in a grid of `cols` columns) in one PNG.
 pub fn line_panels(path: &Path, panels: &[Panel], cols: usize, size: (u32, u32)) -> PlotResult {
+    panels_with_keys(path, panels, cols, size, None)
+}
+
+/// [`line_panels`] where a label has one colour in every panel: the palette entry of its first
+/// appearance in the figure (a Wi sweep drawn in several panels, some with runs others lack).
+pub fn line_panels_keyed(
+    path: &Path,
+    panels: &[Panel],
+    cols: usize,
+    size: (u32, u32),
+) -> PlotResult {
+    let mut keys: Vec<String> = Vec::new();
+    for s in panels.iter().flat_map(|p| &p.series) {
+        if !is_reference(s) && !keys.contains(&s.label) {
+            keys.push(s.label.clone());
+        }
+    }
+    panels_with_keys(path, panels, cols, size, Some(&keys))
+}
+
+fn panels_with_keys(
+    path: &Path,
+    panels: &[Panel],
+    cols: usize,
+    size: (u32, u32),
+    keys: Option<&[String]>,
+) -> PlotResult {
     let root = png_area(path, size)?;
     root.fill(&WHITE)?;
     let rows = panels.len().div_ceil(cols);
     let areas = root.split_evenly((rows, cols));
     for (panel, area) in panels.iter().zip(areas.iter()) {
-        draw_panel(panel, area)?;
+        draw_panel(panel, area, keys)?;
     }
     root.present()?;
     Ok(())
@@ -265,6 +316,7 @@ pub fn line_panels(path: &Path, panels: &[Panel], cols: usize, size: (u32, u32))
 fn draw_panel(
     panel: &Panel,
     area: &DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>,
+    keys: Option<&[String]>,
 ) -> PlotResult {
     let xs = bounds(
         panel
@@ -280,9 +332,9 @@ fn draw_panel(
             .flat_map(|s| s.points.iter().map(|p| p.1)),
         panel.log.1,
     );
-    let entries = legend_entries(panel);
+    let entries = legend_entries(panel, keys);
     let with_legend =
-        panel.series.len() > 1 || !panel.series.is_empty() && !panel.series[0].label.is_empty();
+        panel.series.len() > 1 || !panel.series.is_empty() && !is_reference(&panel.series[0]);
     let corner = legend_corner(panel, xs, ys);
     let (chart_area, side) = if with_legend && corner.is_none() && !entries.is_empty() {
         let w = area.dim_in_pixel().0;
@@ -327,8 +379,8 @@ fn draw_panel(
                 .axis_desc_style((FONT, AXIS_DESC))
                 .draw()?;
             for (k, s) in panel.series.iter().enumerate() {
-                let color = series_color(panel, k);
-                let reference = s.label.is_empty();
+                let color = series_color(panel, k, keys);
+                let reference = is_reference(s);
                 let pts: Vec<(f64, f64)> = s
                     .points
                     .iter()
@@ -353,7 +405,7 @@ fn draw_panel(
                 if has_references(panel) {
                     chart
                         .draw_series(LineSeries::new(Vec::<(f64, f64)>::new(), BLACK))?
-                        .label(REFERENCE_LABEL)
+                        .label(reference_label(panel))
                         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], BLACK));
                 }
                 chart
@@ -397,6 +449,9 @@ pub struct Snapshot {
     /// surface it is. Otherwise dots a third of the spacing across (the lattice and any gaps
     /// stay visible).
     pub splat: bool,
+    /// A closed curve drawn over the particles as a dark line (the cylinder of the cylinder
+    /// array, whose field would otherwise hide its wall points); empty for none.
+    pub outline: Vec<(f64, f64)>,
 }
 
 /// A straight wall surface: a point on it and its unit tangent.
@@ -625,6 +680,18 @@ pub fn particle_snapshots(
                 .filter(|(p, _)| inside(p))
                 .map(|(p, v)| dot(*p, r, colour(*v, lo, hi))),
         )?;
+        if let Some(first) = shot.outline.first() {
+            let closed: Vec<(f64, f64)> = shot
+                .outline
+                .iter()
+                .chain(std::iter::once(first))
+                .map(|p| (p.0 * scale, p.1 * scale))
+                .collect();
+            chart.draw_series(std::iter::once(PathElement::new(
+                closed,
+                RGBColor(40, 40, 40).stroke_width(3),
+            )))?;
+        }
     }
     colour_bar(&bar_area, field, lo, hi)?;
     root.present()?;
