@@ -285,6 +285,13 @@ fn the_coil_outputs_read_a_helix_of_known_radius_and_frequency() {
             }
             last = o;
         }
+        // Back on the axis, the coil is lost: no frequency.
+        let mut st = base.clone();
+        st.time = 1.001;
+        st.scene = log;
+        helix(&mut st, &eff, 0.0, 0.0, 1.001);
+        scene.before_step_3d(&eff, &mut st);
+        assert_eq!(scene.outputs_3d(&st, &eff).jet.jet_coil_frequency, 0.0);
         let expect = if radius > 0.0 { frequency.abs() } else { 0.0 };
         eprintln!(
             "helix R = {radius} m, f = {frequency} Hz: jet_coil_radius {:.4e} m, \

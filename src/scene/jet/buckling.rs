@@ -157,8 +157,8 @@ pub fn arrival(series: &[(f64, Outputs)], height: f64) -> Option<f64> {
 /// thread's time to fall as far, if the caller has it) and when it reached the plate (within
 /// half a spacing); how far the column leaned along x (`jet_deflection`); and whether it
 /// coiled: the first output after contact at which `jet_coil_radius` passed
-/// [`ONSET_FRACTION`] D, then the radius (mean over the second half of the outputs since) and
-/// `jet_coil_frequency` at the end.
+/// [`ONSET_FRACTION`] D, the share of the outputs since at which it was above, the radius (mean
+/// over the second half of the outputs since) and `jet_coil_frequency` at the end.
 pub fn summary_3d(
     cfg: &SceneConfig,
     series: &[(f64, Outputs)],
@@ -211,11 +211,17 @@ pub fn summary_3d(
     let coiled = &after[k0..];
     let late = &coiled[coiled.len() / 2..];
     let radius = late.iter().map(|(_, o)| o.jet.jet_coil_radius).sum::<f64>() / late.len() as f64;
+    let off = coiled
+        .iter()
+        .filter(|(_, o)| o.jet.jet_coil_radius > ONSET_FRACTION * d)
+        .count();
     let frequency = coiled.last().map_or(0.0, |(_, o)| o.jet.jet_coil_frequency);
     text.push_str(&format!(
-        "the column left the axis at t = {:.4} s: coil radius {radius:.3e} m = {:.3} D (mean \
-         over the second half of the record since), coil frequency {frequency:.2} Hz at the end",
+        "the column left the axis at t = {:.4} s and was off it ({ONSET_FRACTION} D) at {:.0} % \
+         of the outputs since: coil radius {radius:.3e} m = {:.3} D (mean over the second half \
+         of them), coil frequency {frequency:.2} Hz at the end",
         coiled[0].0,
+        100.0 * off as f64 / coiled.len() as f64,
         radius / d
     ));
     text

@@ -14,16 +14,16 @@ use crate::state::{SceneState, State};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::{PI, TAU};
 
-/// The azimuth of the column's lowest part, followed from the time it first left the axis.
+/// The azimuth of the column's lowest part, followed from the time it last left the axis.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct Coil {
-    /// Whether the column has left the axis (its centre more than [`ONSET_FRACTION`] D off it).
+    /// Whether the column is off the axis (its centre more than [`ONSET_FRACTION`] D off it).
     pub tracking: bool,
     /// Azimuth of the centre about the axis at the last sample, unwrapped (continuous over
     /// turns) \[rad\], and the time of that sample \[s\].
     pub azimuth: f64,
     pub time: f64,
-    /// Time and azimuth when the column first left the axis.
+    /// Time and azimuth when the column last left the axis.
     pub start_time: f64,
     pub start_azimuth: f64,
     /// Full turns completed since then, when the last one completed, and its period \[s\]
@@ -35,11 +35,14 @@ pub struct Coil {
 
 impl Coil {
     /// Take the sample `centre` (the column's horizontal centre, [x, y]) at time `t` of a jet of
-    /// width `d`. Near the axis (within [`ONSET_FRACTION`] D) the azimuth says nothing and the
-    /// sample is left out; otherwise the azimuth is unwrapped against the last sample (the
-    /// centre turns by far less than half a turn between steps).
+    /// width `d`. Near the axis (within [`ONSET_FRACTION`] D) the azimuth says nothing: the coil
+    /// is lost (a column back on the axis, or one that swings through it, folding, is not
+    /// coiling) and its count starts again when the centre next leaves the axis. Otherwise the
+    /// azimuth is unwrapped against the last sample (the centre turns by far less than half a
+    /// turn between steps).
     pub fn sample(&mut self, t: f64, centre: [f64; 2], d: f64) {
         if centre[0].hypot(centre[1]) <= ONSET_FRACTION * d {
+            *self = Coil::default();
             return;
         }
         let a = centre[1].atan2(centre[0]);
@@ -67,7 +70,7 @@ impl Coil {
     }
 
     /// Turns per second \[Hz\]: the inverse of the last full turn's period; before the first
-    /// full turn, the mean rate since the column left the axis; 0 before that.
+    /// full turn, the mean rate since the column left the axis; 0 while it is on the axis.
     pub fn frequency(&self) -> f64 {
         if self.period > 0.0 {
             1.0 / self.period
