@@ -469,7 +469,7 @@ fn measure<const N: usize>(st: &State<N>, cfg: &SceneConfig) -> Option<Measures>
     }
     let heap = s_lo
         .is_finite()
-        .then(|| ([s_lo, s_hi], d_hi, y_hi + 0.5 * dx));
+        .then_some(([s_lo, s_hi], d_hi, y_hi + 0.5 * dx));
     let y_heap = heap.map_or(0.0, |h| h.2);
     let d = cfg.jet.jet_width;
     let y_m = (y_heap + d).min(nz.exit - 0.5 * d);
