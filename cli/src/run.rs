@@ -522,12 +522,14 @@ pub fn run(
     if let Some(b) = bar {
         b.finish_and_clear();
     }
-    // The scenes sum up a 2D run (a 3D one has its outputs).
+    // The scenes sum up a run: a 2D one from its state and outputs, a 3D one from its outputs.
     let summary = match sim.state_3d() {
         None => sim
             .scene()
             .summary(sim.effective_config(), sim.state(), &series, predictions),
-        Some(_) => Vec::new(),
+        Some(_) => sim
+            .scene()
+            .summary_3d(sim.effective_config(), &series, predictions),
     };
     let result = RunResult {
         series,

@@ -243,6 +243,16 @@ pub trait Scene: Send + Sync {
         Vec::new()
     }
 
+    /// [`Scene::summary`] of a 3D run, from its record of outputs.
+    fn summary_3d(
+        &self,
+        _cfg: &SceneConfig,
+        _series: &[(f64, Outputs)],
+        _predictions: &dyn Predictions,
+    ) -> Vec<String> {
+        Vec::new()
+    }
+
     /// What a plot of the run's outputs against time shows (`width_height.png`): by default
     /// W* = width / D and H* = height / D against t* = t / time scale, D the reference length.
     fn time_plot(&self, cfg: &SceneConfig) -> TimePlot {

@@ -102,6 +102,7 @@ const UNITS: &[UnitDef] = &[
     unit("kg/m", 1, -1, 0),
     unit("N", 1, 1, -2),
     unit("J", 1, 2, -2),
+    unit("Hz", 0, 0, -1),
 ];
 
 /// Escape text for an XML attribute value.

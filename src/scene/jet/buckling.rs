@@ -128,6 +128,105 @@ pub fn summary(
     text
 }
 
+/// When the fluid's lowest point (`jet_tip_height`) first came within `height` of the plate,
+/// interpolated linearly between the outputs; None if it never did.
+///
+/// The slender sheet and thread leave the plate out: their arrival is the time their free end,
+/// the fluid's lowest point, has fallen the nozzle height. An SPH head feels the plate from
+/// about two spacings above it (its kernel reaches the wall's particles) and then creeps the
+/// last half spacing, so that its contact (`height` = dx/2: the lowest particle's centre within
+/// one spacing) depends on the resolution through the plate's reach. The fall itself is
+/// compared where the plate is not yet felt: `height` = D/2, against the model's time to fall
+/// the nozzle height less D/2 (the same definition on both sides).
+pub fn arrival(series: &[(f64, Outputs)], height: f64) -> Option<f64> {
+    let k = series
+        .iter()
+        .position(|(_, o)| o.jet.jet_tip_height <= height)?;
+    if k == 0 {
+        return Some(series[0].0);
+    }
+    let ((t0, a), (t1, b)) = (
+        (series[k - 1].0, series[k - 1].1.jet.jet_tip_height),
+        (series[k].0, series[k].1.jet.jet_tip_height),
+    );
+    Some(t0 + (t1 - t0) * (a - height) / (a - b))
+}
+
+/// The line `viscosph run` prints about a round jet (`dimension = 3`): the mass injected \[kg\];
+/// the fall ([`arrival`]): when the lowest point passed D/2 above the plate (and the slender
+/// thread's time to fall as far, if the caller has it) and when it reached the plate (within
+/// half a spacing); how far the column leaned along x (`jet_deflection`); and whether it
+/// coiled: the first output after contact at which `jet_coil_radius` passed
+/// [`ONSET_FRACTION`] D, the share of the outputs since at which it was above, the radius (mean
+/// over the second half of the outputs since) and `jet_coil_frequency` at the end.
+pub fn summary_3d(
+    cfg: &SceneConfig,
+    series: &[(f64, Outputs)],
+    predictions: &dyn Predictions,
+) -> String {
+    let d = cfg.jet.jet_width;
+    let injected = series.last().map_or(0.0, |s| s.1.jet.injected_mass);
+    let mut text = format!("injected mass {injected:.4e} kg; ");
+    let Some(t_arr) = arrival(series, 0.5 * cfg.dx()) else {
+        text.push_str("the jet has not reached the plate");
+        return text;
+    };
+    if let Some(t_half) = arrival(series, 0.5 * d) {
+        text.push_str(&format!(
+            "the jet's lowest point passed D/2 above the plate at t = {t_half:.4} s"
+        ));
+        let mut above = cfg.clone();
+        above.jet.nozzle_height -= 0.5 * d;
+        if let Some(p) = predictions.predict(&above, "arrival_time") {
+            text.push_str(&format!(
+                " (the {}'s: {:.4} s, {:+.1} %)",
+                p.model,
+                p.value,
+                100.0 * (t_half / p.value - 1.0)
+            ));
+        }
+        text.push_str(", and ");
+    }
+    text.push_str(&format!(
+        "the jet reached the plate at t = {t_arr:.4} s (its lowest point within half a spacing)"
+    ));
+    let after: Vec<&(f64, Outputs)> = series.iter().filter(|(t, _)| *t >= t_arr).collect();
+    let lean = after
+        .iter()
+        .map(|(_, o)| o.jet.jet_deflection.abs())
+        .fold(0.0, f64::max);
+    text.push_str(&format!(
+        "; largest |jet_deflection| since {lean:.3e} m = {:.3} D; ",
+        lean / d
+    ));
+    let Some(k0) = after
+        .iter()
+        .position(|(_, o)| o.jet.jet_coil_radius > ONSET_FRACTION * d)
+    else {
+        text.push_str(&format!(
+            "no coil (jet_coil_radius stayed below {ONSET_FRACTION} D)"
+        ));
+        return text;
+    };
+    let coiled = &after[k0..];
+    let late = &coiled[coiled.len() / 2..];
+    let radius = late.iter().map(|(_, o)| o.jet.jet_coil_radius).sum::<f64>() / late.len() as f64;
+    let off = coiled
+        .iter()
+        .filter(|(_, o)| o.jet.jet_coil_radius > ONSET_FRACTION * d)
+        .count();
+    let frequency = coiled.last().map_or(0.0, |(_, o)| o.jet.jet_coil_frequency);
+    text.push_str(&format!(
+        "the column left the axis at t = {:.4} s and was off it ({ONSET_FRACTION} D) at {:.0} % \
+         of the outputs since: coil radius {radius:.3e} m = {:.3} D (mean over the second half \
+         of them), coil frequency {frequency:.2} Hz at the end",
+        coiled[0].0,
+        100.0 * off as f64 / coiled.len() as f64,
+        radius / d
+    ));
+    text
+}
+
 #[cfg(test)]
 mod tests {
     use super::super::JetOutputs;

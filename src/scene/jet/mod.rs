@@ -37,9 +37,13 @@
 //! | `drop_height` | largest distance of heap particles from the plate + dx/2 (0 before impact) |
 //! | `spread_front`, `spread_back` | downhill and uphill reach of the heap along the plate, as for the drop |
 //! | `jet_deflection` | horizontal offset from the nozzle axis of the centre of the free particles near the height (their mean x, weighted by 1 - |y - y_m| / 2dx over |y - y_m| < 2 dx, so that particles enter and leave the band smoothly, and within 2D of the axis, the column's reach: beyond it at that height is heap spreading sideways) y_m = min(y_heap + D, H - D/2), where y_heap is the vertical height above the impact point of the heap's top (its highest particle + dx/2; 0 before impact): one jet width above the heap, where only the falling column is, unless the heap comes within 3D/2 of the nozzle (low nozzles), when the band is half a jet width below the exit and cuts the column where it enters the heap. 0 while no particle is there. It stays near 0 while the jet falls straight and oscillates when it buckles |
+//! | `jet_tip_height` | height above the plate of the fluid's lowest point: the lowest particle's distance from the plate less dx/2 (the nozzle's height H at the start, about 0 once the jet has landed) |
+//! | `jet_coil_radius`, `jet_coil_frequency` | the round jet's coil (3D only, 0 in 2D): the distance from the axis of the column's centre in `jet_deflection`'s band, and the turns per second of that centre about the axis ([`Coil`]) |
 //!
 //! [`buckling`] turns a record of `jet_deflection` into the onset time, frequency and amplitude
-//! of the buckling.
+//! of the buckling; [`arrival`] reads from `jet_tip_height` when the fluid's lowest point came
+//! within a height of the plate, the way the slender models define their arrival (their free
+//! end's fall): within D/2, where the plate is not yet felt, and within half a spacing (contact).
 //!
 //! **The round jet (`dimension = 3`).** The nozzle is the disc of diameter D = `jet_width` about
 //! the vertical (z) axis through the impact point, its exit at z = H; the plate the drop's
@@ -51,7 +55,9 @@
 //! and a particle is in the nozzle when it is above the exit within D/2 of the axis
 //! ([`Inflow::holds`](crate::state::Inflow::holds)). `injected_mass` is then in kg;
 //! `jet_deflection` is the mean x of the free particles in the band (within 2 D of the axis in
-//! any direction): along the seed's direction. No container (side walls are refused by name).
+//! any direction): along the seed's direction; `jet_coil_radius` that centre's distance from
+//! the axis and `jet_coil_frequency` its turns per second about it ([`Coil`], followed before
+//! every step). No container (side walls are refused by name).
 //! The reference for the fall is the slender-thread model (`viscosph_reference`'s
 //! `falling_thread`, Matovich & Pearson 1969's axisymmetric thread).
 
@@ -66,10 +72,12 @@ use crate::state::State;
 use crate::{Mat2, Vec2};
 
 mod buckling;
+mod coil;
 mod column;
 mod nozzle;
 
-pub use buckling::{buckling, summary, Buckling, ONSET_FRACTION};
+pub use buckling::{arrival, buckling, summary, summary_3d, Buckling, ONSET_FRACTION};
+pub use coil::Coil;
 pub use column::{column, Column};
 pub use nozzle::{
     buffer_rows, disc_lattice, inflow_log, inflow_velocity, side_walls, InflowLog, Nozzle, SEED,
@@ -96,6 +104,9 @@ crate::outputs! {
     pub struct JetOutputs {
         injected_mass: vr 118, unit "kg/m"; "Jet: mass that has entered through the nozzle since t = 0: in 2D per unit depth [kg/m], in 3D the round jet's mass in kg (0 in other scenes)",
         jet_deflection: vr 119, unit "m"; "Jet: horizontal offset of the falling column from the nozzle axis, one jet width above the heap (0 in other scenes)",
+        jet_coil_radius: vr 209, unit "m"; "Jet, round (dimension = 3): distance from the nozzle axis of the centre of the column's lowest part (the band one jet width above the heap where jet_deflection is measured): 0 while the jet falls straight, the coil's radius once it coils (0 in 2D and in other scenes)",
+        jet_coil_frequency: vr 210, unit "Hz"; "Jet, round (dimension = 3): turns per second of the column's lowest part about the nozzle axis (the azimuth of the centre that jet_coil_radius measures, followed at every step while it is more than 0.1 jet widths off the axis): the inverse of the last full turn's period, the mean rate since the column left the axis before the first turn; 0 while it is within 0.1 jet widths of the axis, where the count starts again (0 in 2D and in other scenes)",
+        jet_tip_height: vr 211, unit "m"; "Jet: height above the plate of the fluid's lowest point (the lowest particle's distance from the plate less half a spacing): the nozzle's height at the start, falling to about 0 when the jet lands (0 in other scenes)",
     }
 }
 
@@ -317,9 +328,10 @@ impl Scene for Jet {
         Some(st)
     }
 
-    /// The inflow, as in 2D.
+    /// The inflow, as in 2D, and the coil's azimuth ([`Coil::follow`]).
     fn before_step_3d(&self, cfg: &SceneConfig, st: &mut State<3>) {
         nozzle::advance(cfg, st);
+        coil::follow(cfg, st);
     }
 
     /// The shared outputs and the jet's ([`jet_outputs`]; `injected_mass` in kg).
@@ -344,6 +356,16 @@ impl Scene for Jet {
         predictions: &dyn Predictions,
     ) -> Vec<String> {
         vec![summary(cfg, series, predictions)]
+    }
+
+    /// The round jet's line ([`summary_3d`]: arrival, lean, coil).
+    fn summary_3d(
+        &self,
+        cfg: &SceneConfig,
+        series: &[(f64, Outputs)],
+        predictions: &dyn Predictions,
+    ) -> Vec<String> {
+        vec![summary_3d(cfg, series, predictions)]
     }
 
     /// A jet is tall and narrow: one row of tall panels.
@@ -395,31 +417,28 @@ fn full_nozzle<const N: usize>(cfg: &SceneConfig, rest: Option<Tensor<N>>) -> Fl
     fluid
 }
 
-/// The outputs of a jet state in N dimensions (see the module documentation): the heap's
-/// measures replace the shared drop measures; `jet_deflection` is the x offset of the column
-/// (in 3D: along the seed's direction, the column's centre within 2 D of the axis, any
-/// direction around it).
-pub fn jet_outputs<const N: usize>(st: &State<N>, cfg: &SceneConfig) -> Outputs
-where
-    nalgebra::Const<N>: nalgebra::DimMin<nalgebra::Const<N>, Output = nalgebra::Const<N>>,
-{
-    let mut o = SharedOutputs::compute(st, cfg.dx(), cfg.fluid.density);
+/// What the outputs measure in a jet state (see the module documentation).
+struct Measures {
+    /// The heap's along-plate extent (s_lo, s_hi), its largest distance from the plate and the
+    /// height of its top above the impact point; None before impact.
+    heap: Option<([f64; 2], f64, f64)>,
+    /// The horizontal centre [x, y] (y = 0 in 2D) of the free particles in the band one jet
+    /// width above the heap; None while no particle is there.
+    band: Option<[f64; 2]>,
+    /// The fluid's lowest point above the plate: the lowest particle's distance less dx/2.
+    tip: f64,
+}
+
+/// The heap, the column's band and the lowest fluid of a jet state in N dimensions; None
+/// without a plate.
+fn measure<const N: usize>(st: &State<N>, cfg: &SceneConfig) -> Option<Measures> {
+    let plate = st.plate()?;
     let fl = &st.fluid;
     let nz = Nozzle::from_config(cfg);
     let dx = nz.dx;
-    let log = st.inflow.map(|_| inflow_log(st));
-    let u0 = log.map_or(cfg.jet.jet_velocity, |l| l.velocity);
-    let mut own = JetOutputs {
-        injected_mass: log.map_or(0.0, |l| l.particles as f64 * fl.mass),
-        jet_deflection: 0.0,
-    };
-    let Some(plate) = st.plate() else {
-        return Outputs {
-            shared: o,
-            jet: own,
-            ..Default::default()
-        };
-    };
+    let u0 = st
+        .inflow
+        .map_or(cfg.jet.jet_velocity, |_| inflow_log(st).velocity);
     let up = N - 1;
     // Horizontal distance from the nozzle's axis.
     let off_axis = |x: &Vector<N>| {
@@ -436,40 +455,95 @@ where
         f64::NEG_INFINITY,
         f64::NEG_INFINITY,
     );
-    let is_heap = |i: usize| -fl.v[i].dot(&plate.n) < v_heap && !nz.contains(&fl.x[i]);
-    for i in (0..fl.len()).filter(|&i| is_heap(i)) {
-        let (s, d) = (plate.s(&fl.x[i]), plate.d(&fl.x[i]));
-        s_lo = s_lo.min(s);
-        s_hi = s_hi.max(s);
-        d_hi = d_hi.max(d);
-        y_hi = y_hi.max(fl.x[i][up]);
+    let mut lowest = f64::INFINITY;
+    for i in 0..fl.len() {
+        let d = plate.d(&fl.x[i]);
+        lowest = lowest.min(d);
+        if -fl.v[i].dot(&plate.n) < v_heap && !nz.contains(&fl.x[i]) {
+            let s = plate.s(&fl.x[i]);
+            s_lo = s_lo.min(s);
+            s_hi = s_hi.max(s);
+            d_hi = d_hi.max(d);
+            y_hi = y_hi.max(fl.x[i][up]);
+        }
     }
-    let y_heap = if s_lo.is_finite() {
+    let heap = s_lo
+        .is_finite()
+        .then_some(([s_lo, s_hi], d_hi, y_hi + 0.5 * dx));
+    let y_heap = heap.map_or(0.0, |h| h.2);
+    let d = cfg.jet.jet_width;
+    let y_m = (y_heap + d).min(nz.exit - 0.5 * d);
+    // A hat weight over +/- 2 dx, so that particles enter and leave the band smoothly and the
+    // measure carries no lattice noise.
+    let (mut sum, mut weight) = ([0.0; 2], 0.0);
+    for i in 0..fl.len() {
+        let w = 1.0 - (fl.x[i][up] - y_m).abs() / (2.0 * dx);
+        if w > 0.0 && off_axis(&fl.x[i]) < 2.0 * d && !nz.contains(&fl.x[i]) {
+            sum[0] += w * fl.x[i][0];
+            if N == 3 {
+                sum[1] += w * fl.x[i][1];
+            }
+            weight += w;
+        }
+    }
+    Some(Measures {
+        heap,
+        band: (weight > 0.0).then(|| [sum[0] / weight, sum[1] / weight]),
+        tip: if lowest.is_finite() {
+            lowest - 0.5 * dx
+        } else {
+            0.0
+        },
+    })
+}
+
+/// The horizontal centre [x, y] of the round jet's column one jet width above the heap (what
+/// `jet_deflection` and `jet_coil_radius` measure); None while no free particle is there.
+pub fn band_centre<const N: usize>(st: &State<N>, cfg: &SceneConfig) -> Option<[f64; 2]> {
+    measure(st, cfg).and_then(|m| m.band)
+}
+
+/// The outputs of a jet state in N dimensions (see the module documentation): the heap's
+/// measures replace the shared drop measures; `jet_deflection` is the x offset of the column
+/// (in 3D: along the seed's direction, the column's centre within 2 D of the axis, any
+/// direction around it); in 3D `jet_coil_radius` is that centre's distance from the axis and
+/// `jet_coil_frequency` the turns it has made ([`Coil`], followed at every step).
+pub fn jet_outputs<const N: usize>(st: &State<N>, cfg: &SceneConfig) -> Outputs
+where
+    nalgebra::Const<N>: nalgebra::DimMin<nalgebra::Const<N>, Output = nalgebra::Const<N>>,
+{
+    let mut o = SharedOutputs::compute(st, cfg.dx(), cfg.fluid.density);
+    let dx = cfg.dx();
+    let log = st.inflow.map(|_| inflow_log(st));
+    let mut own = JetOutputs {
+        injected_mass: log.map_or(0.0, |l| l.particles as f64 * st.fluid.mass),
+        ..Default::default()
+    };
+    let Some(m) = measure(st, cfg) else {
+        return Outputs {
+            shared: o,
+            jet: own,
+            ..Default::default()
+        };
+    };
+    if let Some(([s_lo, s_hi], d_hi, _)) = m.heap {
         o.drop_width = s_hi - s_lo + dx;
         o.drop_height = d_hi + 0.5 * dx;
         o.spread_front = s_hi + 0.5 * dx;
         o.spread_back = -(s_lo - 0.5 * dx);
-        y_hi + 0.5 * dx
     } else {
         o.drop_width = 0.0;
         o.drop_height = 0.0;
         o.spread_front = 0.0;
         o.spread_back = 0.0;
-        0.0
-    };
-    let d = cfg.jet.jet_width;
-    let y_m = (y_heap + d).min(nz.exit - 0.5 * d);
-    // A hat weight over +/- 2 dx, so that particles enter and leave the band smoothly and the
-    // measure carries no lattice noise.
-    let (mut sum, mut weight) = (0.0, 0.0);
-    for i in 0..fl.len() {
-        let w = 1.0 - (fl.x[i][up] - y_m).abs() / (2.0 * dx);
-        if w > 0.0 && off_axis(&fl.x[i]) < 2.0 * d && !nz.contains(&fl.x[i]) {
-            sum += w * fl.x[i][0];
-            weight += w;
-        }
     }
-    own.jet_deflection = if weight > 0.0 { sum / weight } else { 0.0 };
+    let [cx, cy] = m.band.unwrap_or([0.0; 2]);
+    own.jet_deflection = cx;
+    own.jet_tip_height = m.tip;
+    if N == 3 {
+        own.jet_coil_radius = cx.hypot(cy);
+        own.jet_coil_frequency = log.map_or(0.0, |l| l.coil.frequency());
+    }
     Outputs {
         shared: o,
         jet: own,

@@ -187,6 +187,8 @@ pub struct InflowLog<const N: usize = 2> {
     pub particles: u64,
     /// Conformation tensor of the fluid entering (the model's at rest; unused without one).
     pub conformation: Tensor<N>,
+    /// The round jet's coil (followed in 3D only).
+    pub coil: super::Coil,
 }
 
 impl<const N: usize> Default for InflowLog<N> {
@@ -198,6 +200,7 @@ impl<const N: usize> Default for InflowLog<N> {
             rows: 0,
             particles: 0,
             conformation: Tensor::zeros(),
+            coil: super::Coil::default(),
         }
     }
 }
