@@ -240,10 +240,10 @@ impl FieldAverage {
 
     /// The per-particle means (only where the particles stayed put, else None) at the points
     /// `at`: at each, a quadratic in x and y fitted by least squares to the particles within
-    /// [`FIT_RADIUS`] spacings, weighted by Wendland's C2 function of the distance, and its
+    /// `FIT_RADIUS` spacings, weighted by Wendland's C2 function of the distance, and its
     /// value there with the number of particles used; the weighted mean where fewer than the
     /// quadratic's 6 coefficients are determined; None outside the fluid, where no particle is
-    /// within [`NEAREST`] spacings (a lattice leaves no point of the fluid farther than
+    /// within `NEAREST` spacings (a lattice leaves no point of the fluid farther than
     /// sqrt(1/2) spacings from a particle, and the first particles sit half a spacing from a
     /// wall). Second order whatever the particles' arrangement (ring or square lattice, one
     /// side of the cylinder); within one and a half spacings of a straight wall only two rows

@@ -328,7 +328,7 @@ impl Scene for Jet {
         Some(st)
     }
 
-    /// The inflow, as in 2D, and the coil's azimuth ([`Coil::follow`]).
+    /// The inflow, as in 2D, and the coil's azimuth (`coil::follow`).
     fn before_step_3d(&self, cfg: &SceneConfig, st: &mut State<3>) {
         nozzle::advance(cfg, st);
         coil::follow(cfg, st);
