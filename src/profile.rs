@@ -85,6 +85,26 @@ impl Timings {
             .map_or(0.0, |p| p.wall)
     }
 
+    /// The share of the step's time spent in the part called `name`: of the CPU time where
+    /// every part has one (as [`Timings::serial_share`]), else of the wall time (0 if not
+    /// timed).
+    pub fn share(&self, name: &str) -> f64 {
+        let Some(p) = self.parts.iter().find(|p| p.name == name) else {
+            return 0.0;
+        };
+        if self.by_cpu() {
+            p.cpu / self.total_cpu
+        } else {
+            p.wall / self.total.max(f64::MIN_POSITIVE)
+        }
+    }
+
+    /// Whether shares are of the CPU time: the platform has a CPU clock and every part that
+    /// took time has its CPU time.
+    fn by_cpu(&self) -> bool {
+        self.total_cpu > 0.0 && self.parts.iter().all(|p| p.cpu > 0.0 || p.wall == 0.0)
+    }
+
     /// Wall seconds of the parts that run on one thread.
     pub fn serial_wall(&self) -> f64 {
         self.parts.iter().filter(|p| p.serial).map(|p| p.wall).sum()
@@ -100,9 +120,9 @@ impl Timings {
     /// that is the work itself, while the wall clock also counts the time other processes hold
     /// the core (on a loaded machine, most of it); from a run on one thread, this is Amdahl's s.
     pub fn serial_share(&self) -> f64 {
-        // CPU time per part only if every part has it (ISPH times its solves' wall clock only).
-        let cpu_per_part = self.parts.iter().all(|p| p.cpu > 0.0 || p.wall == 0.0);
-        if self.total_cpu > 0.0 && cpu_per_part {
+        // CPU time per part only if every part has it (a scheme's timings kept without the
+        // profile, such as ISPH's solves' wall clock, have none).
+        if self.by_cpu() {
             let timed: f64 = self.parts.iter().map(|p| p.cpu).sum();
             let serial: f64 = self.parts.iter().filter(|p| p.serial).map(|p| p.cpu).sum();
             ((serial + (self.total_cpu - timed).max(0.0)) / self.total_cpu).min(1.0)
@@ -169,8 +189,7 @@ impl Timings {
         );
         // Shares of the CPU time where every part has one (see `serial_share`), else of the
         // wall time.
-        let by_cpu =
-            self.total_cpu > 0.0 && self.parts.iter().all(|p| p.cpu > 0.0 || p.wall == 0.0);
+        let by_cpu = self.by_cpu();
         let row = |name: &str, wall: f64, cpu: f64, serial: Option<bool>| {
             format!(
                 "{:<38} {:>10.4} {:>10.4} {:>6.2}% {:>8.2}  {}\n",

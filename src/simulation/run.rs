@@ -319,8 +319,8 @@ where
     pub fn timings(&self) -> Timings {
         let around = self.profile.timings();
         let mut t = self.scheme.timings();
-        // What the scheme's own parts leave of its steps (ISPH times only its solves), counted
-        // as serial: unaccounted time is not known to spread over the threads.
+        // What the scheme's own parts leave of its steps (the bookkeeping between its timed
+        // parts), counted as serial: unaccounted time is not known to spread over the threads.
         if let Some(step) = around.parts.iter().find(|p| p.name == "scheme step") {
             let wall = step.wall - t.parts.iter().map(|p| p.wall).sum::<f64>();
             let cpu = step.cpu - t.parts.iter().map(|p| p.cpu).sum::<f64>();

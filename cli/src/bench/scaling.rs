@@ -2,8 +2,9 @@
 //! for the WCSPH drop at 10^4, 10^5 and 10^6 particles and the ISPH drop (King & Lind's Re = 4)
 //! at 10^3, 10^4 and 10^5: wall time per step, speed-up and parallel efficiency, and from the
 //! per-pass timers ([`viscosph::profile`]) the serial share of a step at one thread and its
-//! Amdahl projection to 16 threads; for ISPH also the pressure solve's share and its iterations
-//! per solve against the particle count.
+//! Amdahl projection to 16 threads; for ISPH also the shares of the pressure and viscous solves
+//! (of the CPU time at one thread) and their iterations against the particle count; and the
+//! per-pass tables of the largest WCSPH case and of the ISPH case at 10^4 particles.
 //!
 //! On a machine shared with other work the wall clock counts the time others hold the cores: the
 //! section states the load average before and after, and the CPU time per particle-step (which
@@ -27,6 +28,8 @@ struct Run {
     timings: Timings,
     /// Pressure-solve iterations per step (ISPH; 0 otherwise).
     ppe_iterations: f64,
+    /// Viscous-solve iterations per step (ISPH's implicit viscosity; 0 otherwise).
+    viscous_iterations: f64,
 }
 
 impl Run {
@@ -52,9 +55,8 @@ fn timed_run(
     let mut sim = Simulation::new(cfg)?;
     sim.advance_to(1e-12)?;
     let dt = sim.state().last_dt;
-    let (s0, it0) = (sim.state().step, sim.state().solver_iterations[0]);
+    let (s0, it0) = (sim.state().step, sim.state().solver_iterations);
     sim.set_profiling(true);
-    // A scheme that times some parts always (ISPH's solves) has timed the first step too.
     let before = sim.timings();
     sim.advance_to(sim.time() + dt * steps as f64 * 0.999)?;
     let st = sim.state();
@@ -64,7 +66,8 @@ fn timed_run(
         steps: done,
         threads,
         timings: sim.timings().since(&before),
-        ppe_iterations: (st.solver_iterations[0] - it0) as f64 / done.max(1) as f64,
+        ppe_iterations: (st.solver_iterations[0] - it0[0]) as f64 / done.max(1) as f64,
+        viscous_iterations: (st.solver_iterations[1] - it0[1]) as f64 / done.max(1) as f64,
     })
 }
 
@@ -127,10 +130,12 @@ pub fn bench_scaling(out: &Path, quick: bool) -> Result<String, Box<dyn std::err
     let mut md = format!(
         "Wall time per step against threads, {}; load average {load_before:.1} before and \
          {load_after:.1} after (other work on the machine slows the wall clock; the CPU time \
-         per particle-step counts this process alone). Serial share: the parts of a step that \
-         run on one thread, from the per-pass timers at one thread (`viscosph run --profile` \
-         prints the same table); Amdahl: the efficiency that share allows at 16 threads, \
-         1 / (s + (1 - s)/16) / 16.\n\n",
+         per particle-step counts this process alone). Serial share: the CPU time of the parts \
+         of a step that run on one thread, from the per-pass timers at one thread (`viscosph \
+         run --profile` prints the same table; a part marked \"all threads\" holds one-thread \
+         work only where it is small: the offsets of the parallel chunks, ISPH's multigrid \
+         aggregation and coarsest-level LU); Amdahl: the efficiency that share allows at 16 \
+         threads, 1 / (s + (1 - s)/16) / 16.\n\n",
         machine_description()
     );
     md.push_str(
@@ -178,31 +183,41 @@ pub fn bench_scaling(out: &Path, quick: bool) -> Result<String, Box<dyn std::err
             amdahl_efficiency(s, 16)
         )?;
     }
-    // ISPH: where the time goes and how the pressure solve grows with the particles.
+    // ISPH: where the time goes and how the solves' iterations grow with the particles.
     md.push_str(
         "\n| ISPH, one thread: particles | pressure solve share | viscous solve share | PPE \
-         iterations per solve |\n|---|---|---|---|\n",
+         iterations per solve | viscous iterations per step |\n|---|---|---|---|---|\n",
     );
     for (_, r) in runs
         .iter()
         .filter(|(l, r)| l.starts_with("ISPH") && r.threads == 1)
     {
         let t = &r.timings;
-        let tot = t.total.max(f64::MIN_POSITIVE);
         writeln!(
             md,
-            "| {} | {:.0} % | {:.0} % | {:.1} |",
+            "| {} | {:.0} % | {:.0} % | {:.1} | {:.1} |",
             r.particles,
-            100.0 * t.part("pressure solve") / tot,
-            100.0 * t.part("viscous solve") / tot,
-            r.ppe_iterations
+            100.0 * (t.share("pressure solve") + t.share("pressure solve, ILU(0)")),
+            100.0 * (t.share("viscous solve") + t.share("viscous solve, ILU(0)")),
+            r.ppe_iterations,
+            r.viscous_iterations
         )?;
     }
-    // The per-pass table of the largest WCSPH case at one thread and at the most threads.
-    for threads in [1, cores] {
+    // The per-pass tables of the largest WCSPH case and of the ISPH case nearest 10^4
+    // particles (the acceptance's), at one thread and at the most threads.
+    let isph_mid = runs
+        .iter()
+        .filter(|(l, _)| l.starts_with("ISPH"))
+        .min_by_key(|(_, r)| r.particles.abs_diff(10_000))
+        .map(|(_, r)| r.particles);
+    for (scheme, threads) in [("WCSPH", 1), ("WCSPH", cores), ("ISPH", 1), ("ISPH", cores)] {
         if let Some((label, r)) = runs
             .iter()
-            .filter(|(l, r)| l.starts_with("WCSPH") && r.threads == threads)
+            .filter(|(l, r)| {
+                l.starts_with(scheme)
+                    && r.threads == threads
+                    && (scheme == "WCSPH" || Some(r.particles) == isph_mid)
+            })
             .max_by_key(|(_, r)| r.particles)
         {
             writeln!(

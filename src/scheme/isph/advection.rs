@@ -108,9 +108,10 @@ where
         let (dom, dt) = (self.p.domain, ctx.dt);
         let fl = &mut st.fluid;
         if ctx.lagrangian {
-            for i in 0..ctx.n {
-                fl.x[i] = dom.wrap(fl.x[i] + (fl.v[i] + u_new[i] + 2.0 * u_ps[i]) * (0.5 * dt));
-            }
+            fl.x[..ctx.n]
+                .par_iter_mut()
+                .zip(fl.v.par_iter().zip(u_new.par_iter().zip(u_ps.par_iter())))
+                .for_each(|(x, (v, (u, ps)))| *x = dom.wrap(*x + (v + u + 2.0 * ps) * (0.5 * dt)));
         }
         if let Some(inl) = st.inflow.as_mut() {
             inl.momentum += held_momentum;

@@ -133,9 +133,12 @@ use crate::neighbors::NeighborList;
 use crate::operators::kinematics::corrected_velocity_gradients;
 use crate::operators::pairs::PairCache;
 use crate::operators::surface::{self, Surface};
+use crate::profile::{Profile, Stamp};
 use crate::rheology::{Evss, Rheology};
 use crate::state::State;
 use ppe::SolverOptions;
+use rayon::prelude::*;
+use std::sync::Mutex;
 use std::time::Instant;
 use walls::Virtual;
 
@@ -189,6 +192,9 @@ pub struct Isph<R: Rheology, const N: usize = 2> {
     /// pressure"); p = 0 on the surface otherwise.
     normal_stress: bool,
     pub timings: IsphTimings,
+    /// The per-pass timers (`viscosph run --profile`): behind a lock so the parts of a step,
+    /// which borrow the scheme shared, can book their time.
+    prof: Mutex<Profile>,
 }
 
 impl<R: Rheology, const N: usize> Isph<R, N>
@@ -205,6 +211,22 @@ where
     /// with a free surface (the surface terms' net is removed from every particle).
     fn splits_wall_forces(&self, walls: usize) -> bool {
         walls > 1 && !self.free_surface
+    }
+
+    /// A clock reading if profiling is on ([`Profile::start`]).
+    fn clock(&self) -> Option<Stamp> {
+        self.prof.lock().expect("profile lock").start()
+    }
+
+    /// Book the time since `since` to the part `name` of the step, which runs on one thread
+    /// where `serial` ([`Profile::lap`]); returns the start of the next part.
+    fn lap(&self, since: Option<Stamp>, name: &'static str, serial: bool) -> Option<Stamp> {
+        since.and_then(|t| {
+            self.prof
+                .lock()
+                .expect("profile lock")
+                .lap(Some(t), name, serial)
+        })
     }
 
     /// The scheme for the numerics `cfg` of an effective configuration, the constants `p` (which
@@ -259,6 +281,7 @@ where
                     IsphFreeSurface::NormalStress => true,
                 },
             timings: IsphTimings::default(),
+            prof: Mutex::new(Profile::default()),
             p,
         }
     }
@@ -428,6 +451,7 @@ where
 {
     fn step(&mut self, st: &mut State<N>, max_dt: f64) -> Result<f64, String> {
         let t_start = Instant::now();
+        let t = self.clock();
         // The step, eq. (28) with this scheme's further limits.
         let size = self.step_size(st, max_dt)?;
         let dt = size.dt;
@@ -435,9 +459,11 @@ where
         let vol = st.fluid.mass / self.rho;
         let lagrangian = self.frame == IsphFrame::Lagrangian;
         let held = Held::of(st);
+        let t = self.lap(t, "time step, inlet", true);
 
         // Step 1, eq. (23): r* = r^n + dt u^n.
         let xs = self.predict_positions(&st.fluid, dt, lagrangian);
+        self.lap(t, "advection r*", false);
 
         // Step 2: the walls' virtual particles, the lists, the pair cache, the correction (22)
         // and the free surface (36)-(39); then the shifting velocity (40)-(44).
@@ -457,15 +483,23 @@ where
             surf: nb.surf,
             u_curv: nb.u_curv,
         };
+        let t = self.clock();
         let u_ps = self.shifting_velocity(&st.fluid, &ctx, nb.grad_c, nb.grad_c_q);
+        let t = self.lap(t, "shifting velocity", true);
 
         // Step 3: the conformation tensor to n + 1/2 (section III.B, eqs. (29)-(33)) with the
         // corrected velocity gradient (20), (22) of u^n, and the stress Phi (6) it gives.
         let u_n = ctx.extend(&st.fluid.v);
         let kappa = corrected_velocity_gradients(n, &u_n, vol, &ctx.nl, &self.pairs, &ctx.l);
+        let t = self.lap(t, "velocity gradient", false);
         let conf = self.conformation(&st.fluid.conf, &kappa, &u_ps, &ctx)?;
         let (phi, phi_virtual) = self.polymer_stress(st, &ctx, &conf, &kappa);
-        let mu = kappa.iter().map(|k| self.laplacian_viscosity(k)).collect();
+        let t = self.lap(t, "conformation, polymer stress", false);
+        let mu = kappa
+            .par_iter()
+            .with_min_len(MIN_TASK)
+            .map(|k| self.laplacian_viscosity(k))
+            .collect();
         let f = Fields {
             u_n,
             kappa,
@@ -484,6 +518,8 @@ where
             ..Default::default()
         };
 
+        self.lap(t, "viscosity, books", true);
+
         // Step 4: the predictor u* (24), the solvent viscosity (21) explicit or implicit.
         let u_star = self.predictor(st, &ctx, &f, &mut books)?;
 
@@ -491,11 +527,14 @@ where
         let pressure = self.pressure(st, &ctx, &f, &u_star, &mut books)?;
 
         // Step 6: the projection (26), u^{n+1} = u* - dt grad p / rho + dt g.
+        let t = self.clock();
         let u_new = self.projection(&st.fluid, &ctx, &u_star, &pressure, &mut books);
+        let t = self.lap(t, "projection", false);
 
         // Step 7: advection (27), then the plate contact and the books.
         let (contacts, plate_contact) =
             self.advect(st, &ctx, &f.u_ps, u_new, conf, books.held_momentum);
+        let t = self.lap(t, "advection, wall contact", true);
         let contact = contacts.iter().fold(Vector::<N>::zeros(), |a, m| a + m);
         for (fw, m) in books.per_wall.iter_mut().zip(&contacts) {
             *fw += m / dt;
@@ -522,6 +561,7 @@ where
         st.solver_iterations[0] += books.iterations[0];
         st.solver_iterations[1] += books.iterations[1];
         st.last_dt = size.stable;
+        let t = self.lap(t, "wall forces, pressure", true);
         // No density to check, and no tensile instability to act on: the void fraction is
         // reported, not acted on.
         health::check_particles(
@@ -535,6 +575,7 @@ where
         // The void fraction of the weakly compressible schemes' health check (none in 3D yet).
         st.void_fraction =
             Const::<N>::void_fraction(&st.fluid, st.plate, &st.walls, self.p.dx).unwrap_or(0.0);
+        self.lap(t, "health check", false);
         self.timings.pressure_solve += books.pressure_time;
         self.timings.viscous_solve += books.viscous_time;
         self.timings.total += t_start.elapsed().as_secs_f64();
@@ -542,6 +583,11 @@ where
     }
 
     fn timings(&self) -> super::Timings {
+        let prof = self.prof.lock().expect("profile lock");
+        if prof.start().is_some() {
+            return prof.timings();
+        }
+        // Profiling off: the solves' wall time, which the scheme always keeps (`bench isph`).
         let mut t = super::Timings {
             total: self.timings.total,
             ..Default::default()
@@ -549,6 +595,10 @@ where
         t.add("pressure solve", false, self.timings.pressure_solve, 0.0);
         t.add("viscous solve", false, self.timings.viscous_solve, 0.0);
         t
+    }
+
+    fn set_profiling(&mut self, on: bool) {
+        self.prof.lock().expect("profile lock").enable(on);
     }
 
     fn wall_positions(&self, st: &State<N>) -> Vec<Vector<N>> {

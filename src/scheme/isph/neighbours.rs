@@ -53,6 +53,7 @@ where
         vol: f64,
         lagrangian: bool,
     ) -> Result<Neighbourhood<N>, String> {
+        let t = self.clock();
         let n = xs.len();
         let dom = self.p.domain;
         let radius = self.kernel.radius();
@@ -66,9 +67,11 @@ where
             &dom,
             &mut self.all_x,
         )?;
+        let t = self.lap(t, "neighbours: virtual particles", true);
         let all_x = &self.all_x;
         let grid = Grid::<N>::build(all_x, radius, &dom);
         let nl = NeighborList::build(&grid, all_x, &xs, radius, &dom);
+        let t = self.lap(t, "neighbours: grid, lists", false);
         // Virtual particles carry their parent's volume times the reflection's Jacobian
         // (`Virtual::volume`).
         let vols: Vec<f64> = std::iter::repeat_n(vol, n)
@@ -96,11 +99,13 @@ where
         }
         // Closed channel: the wall curvature of u^n the odd continuation misses, added to every
         // virtual velocity of this step.
+        let t = self.lap(t, "neighbours: pair cache, correction, surface", false);
         let u_curv = if self.free_surface {
             vec![Vector::<N>::zeros(); virt.len()]
         } else {
             virt.velocity_curvature(&st.walls, &xs, &st.fluid.v, radius)
         };
+        self.lap(t, "neighbours: wall curvature", true);
         Ok(Neighbourhood {
             xs,
             virt,

@@ -37,6 +37,7 @@ where
         f: &Fields<N>,
         books: &mut Books<N>,
     ) -> Result<Vec<Vector<N>>, String> {
+        let t = self.clock();
         let fl = &st.fluid;
         let (n, dt, vol, rho) = (ctx.n, ctx.dt, ctx.vol, self.rho);
         let (nl, l, pairs) = (&ctx.nl, &ctx.l, &self.pairs);
@@ -184,6 +185,7 @@ where
                 }
             }
         }
+        self.lap(t, "predictor: explicit terms", false);
         let mut u_star = if explicit {
             rhs
         } else {

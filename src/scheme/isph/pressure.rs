@@ -55,13 +55,14 @@
 
 use super::ppe::{self, GhostLink};
 use super::step_size::DT_COEF_PER_FACTOR;
-use super::{Books, Context, Fields, Isph};
+use super::{Books, Context, Fields, Isph, MIN_TASK};
 use crate::dim::{Const, Dim, Vector};
 use crate::kernel::Kernel;
 use crate::operators::kinematics::corrected_velocity_gradients;
 use crate::operators::surface;
 use crate::rheology::Rheology;
 use crate::state::State;
+use rayon::prelude::*;
 use std::time::Instant;
 
 /// Relaxation coefficient of the density-invariant PPE source (module documentation).
@@ -104,6 +105,7 @@ where
         books: &mut Books<N>,
     ) -> Result<Pressure, String> {
         let t0 = Instant::now();
+        let t = self.clock();
         let (n, dt, vol, rho) = (ctx.n, ctx.dt, ctx.vol, self.rho);
         let (nl, held, pairs) = (&ctx.nl, &ctx.held, &self.pairs);
         let us_all = ctx.extend(u_star);
@@ -144,44 +146,48 @@ where
             } else {
                 Vec::new()
             };
-            for (i, bi) in b.iter_mut().enumerate() {
-                if held.holds(i) {
-                    continue;
-                }
-                if s.is_surface[i] {
-                    let c_row = if curved {
-                        c0 * self.half_lattice.curved_share(0.0, curvature[i])
+            // Each particle's source by itself, in parallel.
+            b.par_iter_mut()
+                .enumerate()
+                .with_min_len(MIN_TASK)
+                .for_each(|(i, bi)| {
+                    if held.holds(i) {
+                        return;
+                    }
+                    if s.is_surface[i] {
+                        let c_row = if curved {
+                            c0 * self.half_lattice.curved_share(0.0, curvature[i])
+                        } else {
+                            c_row
+                        };
+                        *bi += alpha_fs * rho / (dt * dt) * ((c_row - s.concentration[i]) / c_row);
+                        return;
+                    }
+                    let (alpha, c_ref) = if !s.near_surface[i] {
+                        (DENSITY_INVARIANCE, c0)
+                    } else if let Some(a) =
+                        surface::row_distance(i, &self.all_x, nl, &dom, s, &self.kernel)
+                    {
+                        let share = if curved {
+                            let k = surface::row_curvature(
+                                i,
+                                &self.all_x,
+                                nl,
+                                &dom,
+                                s,
+                                &curvature,
+                                &self.kernel,
+                            );
+                            self.half_lattice.curved_share(a, k)
+                        } else {
+                            self.half_lattice.share(a)
+                        };
+                        (alpha_ns, c0 * share)
                     } else {
-                        c_row
+                        return;
                     };
-                    *bi += alpha_fs * rho / (dt * dt) * ((c_row - s.concentration[i]) / c_row);
-                    continue;
-                }
-                let (alpha, c_ref) = if !s.near_surface[i] {
-                    (DENSITY_INVARIANCE, c0)
-                } else if let Some(a) =
-                    surface::row_distance(i, &self.all_x, nl, &dom, s, &self.kernel)
-                {
-                    let share = if curved {
-                        let k = surface::row_curvature(
-                            i,
-                            &self.all_x,
-                            nl,
-                            &dom,
-                            s,
-                            &curvature,
-                            &self.kernel,
-                        );
-                        self.half_lattice.curved_share(a, k)
-                    } else {
-                        self.half_lattice.share(a)
-                    };
-                    (alpha_ns, c0 * share)
-                } else {
-                    continue;
-                };
-                *bi += alpha * rho / (dt * dt) * (c_ref - s.concentration[i]) / c_ref;
-            }
+                    *bi += alpha * rho / (dt * dt) * (c_ref - s.concentration[i]) / c_ref;
+                });
         }
         // Inlet particles within reach of free fluid: Neumann (module documentation of
         // `isph`, "Inlet").
@@ -199,6 +205,7 @@ where
             sign: &[],
             offset: &offsets,
         };
+        let t = self.lap(t, "pressure: source, surface rows", false);
         let sys = ppe::assemble_poisson_surface(
             n,
             nl,
@@ -228,6 +235,13 @@ where
         let stats = ppe::solve(&sys, &mut pres, &opts)
             .map_err(|e| format!("pressure Poisson equation: {e}"))?;
         books.iterations[0] = stats.iterations as u64;
+        // ILU(0)'s factorisation and triangular solves run on one thread (an upper bound: its
+        // matrix-vector products run on all).
+        if opts.preconditioner == ppe::Preconditioner::Ilu0 {
+            self.lap(t, "pressure solve, ILU(0)", true);
+        } else {
+            self.lap(t, "pressure solve", false);
+        }
         books.pressure_time += t0.elapsed().as_secs_f64();
         Ok(Pressure {
             p: pres,

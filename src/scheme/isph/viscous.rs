@@ -79,18 +79,22 @@ where
         books: &mut Books<N>,
     ) -> Result<Vec<Vector<N>>, String> {
         let t0 = Instant::now();
+        let mut t = self.clock();
         let (n, dt, vol, mass, rho) = (ctx.n, ctx.dt, ctx.vol, ctx.mass, self.rho);
         let (nl, l, pairs, held) = (&ctx.nl, &ctx.l, &self.pairs, &ctx.held);
         let parent = &ctx.virt.parent;
         // (I - dt/rho lap_mu) u* = rhs; pair coefficients carry the pair's mean viscosity.
-        let mut coef = pairs.morris.clone();
+        // Written in parallel into zeroed (untouched) pages, not cloned then scaled (a clone
+        // copies on one thread).
+        let mut coef = vec![0.0; pairs.morris.len()];
         nl.split_mut(&mut coef)
             .into_par_iter()
             .enumerate()
             .for_each(|(i, c)| {
-                for (ck, &j) in c.iter_mut().zip(nl.of(i)) {
+                let off = nl.offset(i);
+                for (k, (ck, &j)) in c.iter_mut().zip(nl.of(i)).enumerate() {
                     let pj = ctx.source(j as usize);
-                    *ck *= 0.5 * (mu[i] + mu[pj]);
+                    *ck = pairs.morris[off + k] * (0.5 * (mu[i] + mu[pj]));
                 }
             });
         let sign = vec![-1.0; ctx.virt.len()];
@@ -102,9 +106,10 @@ where
             .map(|(w, c)| 2.0 * w + c)
             .collect();
         let mut u = rhs.clone();
-        // Block Jacobi in 3D, ILU(0) in 2D ([`ppe::Preconditioner::for_viscous`]).
+        // Block Jacobi in 3D and from 2,000 rows, ILU(0) below
+        // ([`ppe::Preconditioner::for_viscous`]).
         let opts = |block: usize| ppe::SolverOptions {
-            preconditioner: ppe::Preconditioner::for_viscous(N, block),
+            preconditioner: ppe::Preconditioner::for_viscous(block * n, N, block),
             ..self.solver
         };
         // The plate's share by particle, at the solved velocities ([`super::plate_load`]).
@@ -153,6 +158,7 @@ where
             )
             .map_err(|e| format!("implicit viscous step: {e}"))?;
             books.iterations[1] = stats.iterations as u64;
+            t = self.lap_solve(t, &opts(N));
             if books.plate.is_on() {
                 plate_terms = self.viscous_wall_terms(ctx, &coef, theta, visc_curv, &u);
             }
@@ -175,6 +181,7 @@ where
                     f
                 })
                 .collect();
+            t = self.lap(t, "viscous: surface net force", false);
             let mean = held.mean_over_free(net.iter());
             for (i, ui) in u.iter_mut().enumerate() {
                 if !held.holds(i) {
@@ -196,10 +203,12 @@ where
             )
             .map_err(|e| format!("implicit viscous step: {e}"))?;
             books.iterations[1] = stats.iter().map(|s| s.iterations as u64).sum();
+            t = self.lap_solve(t, &opts(1));
             if books.plate.is_on() {
                 plate_terms = self.viscous_wall_terms(ctx, &coef, theta, visc_curv, &u);
             }
             self.split_viscous_force(ctx, &coef, theta, visc_curv, &u, books);
+            t = self.lap(t, "viscous: wall forces", false);
         }
         // The momentum the solve changed is the virtual particles' viscous force: the
         // fluid-fluid coefficients are symmetric, so their share cancels pair by pair (and the
@@ -211,8 +220,24 @@ where
             total += d;
         }
         books.plate.add_viscous(&plate_terms, total);
+        self.lap(t, "viscous: momentum books", true);
         books.viscous_time += t0.elapsed().as_secs_f64();
         Ok(u)
+    }
+
+    /// Book the viscous solve's time: to a part on one thread where ILU(0) preconditions it
+    /// (its factorisation and triangular solves are sequential; an upper bound, its
+    /// matrix-vector products run on all threads).
+    fn lap_solve(
+        &self,
+        t: Option<crate::profile::Stamp>,
+        opts: &ppe::SolverOptions,
+    ) -> Option<crate::profile::Stamp> {
+        if opts.preconditioner == ppe::Preconditioner::Ilu0 {
+            self.lap(t, "viscous solve, ILU(0)", true)
+        } else {
+            self.lap(t, "viscous solve", false)
+        }
     }
 
     /// Each wall's share of the implicit viscous force on the fluid, where the step splits the

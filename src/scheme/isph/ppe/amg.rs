@@ -57,14 +57,20 @@
 //! | 80,028 | 58 / 4,589 ms | 9 / 1,515 ms | 49 / 2,984 ms | 9 / 1,590 ms |
 //!
 //! Levels at 20,008 rows: 20,008 / 3,332 / 410 / 63 rows, 861,068 / 95,744 / 7,842 / 961
-//! entries (operator complexity 1.12). Below a few thousand rows ILU(0)'s cheap set-up wins.
-//! In the ISPH drop (King & Lind's Re = 4, `examples/isph_speed.rs`, one thread) the warm
-//! started PPE needs fewer iterations than these cold solves: at 10^4 particles ILU(0) 13.2
-//! per step, AMG 4.4, and the step's CPU time was no lower with AMG (24.1-25.8 s against
-//! 29.3-30.4 s for 136 steps); at 10^5 it pays: 47.1 against 7.1 iterations, the PPE's share
-//! of the step 36 % against 20 %, CPU 50.2 s against 41.7 s for 15 steps. Hence
-//! [`AMG_MIN_ROWS`]. Levels there: 100,080 / 17,220 / 2,079 / 285 rows (operator complexity
-//! 1.13).
+//! entries (operator complexity 1.12) with a coarsest level of at most 300 rows (now
+//! [`COARSE_MAX`] = 100: one level more). In the ISPH drop (King & Lind's Re = 4,
+//! `examples/isph_speed.rs`, one thread) the warm started PPE needs fewer iterations than these
+//! cold solves: at 10^5 particles 47.1 (ILU(0)) against 7.1 (AMG, V-cycle), the PPE's share of
+//! the step 36 % against 20 %, CPU 50.2 s against 41.7 s for 15 steps. Levels there: 100,080 /
+//! 17,220 / 2,079 / 285 rows (operator complexity 1.13).
+//!
+//! **From [`AMG_MIN_ROWS`] = 5,000 rows** ([`Preconditioner::for_pressure`]). Measured on the
+//! scaling bench's drop (`viscosph bench scaling`: the Re = 4 drop from just above the plate,
+//! W-cycle, coarsest level up to 300 rows, one thread, load 3-8, CPU seconds of the PPE's
+//! set-up + BiCGStab over the same steps): at 10^3 particles (51 steps) AMG 5.06 iterations per
+//! solve and 0.181 s against ILU(0)'s 8.39 and 0.091 s; at 10^4 (28 steps) 5.54 and 1.20 s
+//! against 23.46 and 1.30 s; at 10^5 (4 steps) 5.75 and 2.43 s. ILU(0)'s factorisation and
+//! triangular solves run on one thread, the cycle's products on all.
 //!
 //! **Determinism.** Every product is row-parallel with each row summed in column order; the
 //! Galerkin product gathers each coarse row from the fine rows in ascending order; the
@@ -73,9 +79,6 @@
 
 use super::*;
 
-/// Smallest pressure system preconditioned by AMG by default
-/// ([`Preconditioner::for_pressure`]).
-pub const AMG_MIN_ROWS: usize = 20_000;
 /// Strength threshold theta (module documentation).
 pub const STRENGTH: f64 = 0.08;
 /// Damped Jacobi sweeps before and after the coarse correction (module documentation).
@@ -83,8 +86,13 @@ pub const SWEEPS: usize = 2;
 /// Visits of each coarse level per visit of the level above: 1 is the V-cycle, 2 the W-cycle
 /// (module documentation).
 pub const CYCLE_VISITS: usize = 2;
-/// Largest coarsest level, solved by dense LU.
-pub const COARSE_MAX: usize = 300;
+/// Largest coarsest level, solved by dense LU. Its factorisation (n^3 / 3) and its solves
+/// (2 n^2 per visit, several visits per cycle) run on one thread: at 300 rows the LU of the
+/// 10^3 drop's 170-row coarsest level was an estimated half of AMG's set-up there, and at 10^4
+/// particles that of 280 rows about a third (7 of 18 ms a step). At 100 rows both are a few per
+/// cent of it, for one more (small, parallel) level: at 10^4 particles the pressure solve's CPU
+/// went from 1.36 s to 1.27 s over 28 steps (5.54 and 5.68 iterations per solve).
+pub const COARSE_MAX: usize = 100;
 /// Most levels of the hierarchy.
 const MAX_LEVELS: usize = 12;
 

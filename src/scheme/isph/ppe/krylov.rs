@@ -12,6 +12,7 @@ pub enum Preconditioner {
     Ssor,
     /// Incomplete LU factorisation with the matrix's own sparsity pattern.
     Ilu0,
+
     /// One W-cycle of smoothed-aggregation algebraic multigrid ([`Amg`]).
     Amg,
     /// Block Jacobi: the inverse of each `k x k` diagonal block (rows and columns `k b ..
@@ -23,8 +24,18 @@ pub enum Preconditioner {
 
 impl Preconditioner {
     /// The preconditioner of a pressure Poisson system of `rows` rows: [`Preconditioner::Amg`]
-    /// from [`AMG_MIN_ROWS`] rows, where its flat iteration count outweighs its set-up (module
-    /// documentation of [`Amg`], measured), ILU(0) below.
+    /// from [`AMG_MIN_ROWS`] rows, ILU(0) below.
+    ///
+    /// AMG's iterations stay flat as the resolution grows and its cycle is row-parallel;
+    /// ILU(0)'s grow like the inverse spacing and its factorisation and triangular solves run
+    /// on one thread. Measured on the scaling bench's drop (King & Lind's Re = 4 from just
+    /// above the plate, warm started, one thread; `viscosph bench scaling`'s case): PPE iterations
+    /// per solve 5.2 / 5.7 / 5.8 with AMG at 10^3 / 10^4 / 10^5 particles, 8.4 / 23.5 with
+    /// ILU(0) at 10^3 / 10^4 (47 at 10^5 in `examples/isph_speed.rs`); CPU of the pressure
+    /// solve at 10^4 1.27 s (AMG) against 1.44 s (ILU(0)) over 28 steps, at 10^3 0.227 s against
+    /// 0.129 s over 51 steps (AMG's set-up does not pay on so few rows). The switch lies between
+    /// the two, where `ppe_bench`'s cold solves at 5,008 rows cost about the same
+    /// (docs/isph.md).
     pub fn for_pressure(rows: usize) -> Self {
         if rows >= AMG_MIN_ROWS {
             Preconditioner::Amg
@@ -32,32 +43,46 @@ impl Preconditioner {
             Preconditioner::Ilu0
         }
     }
-}
 
-impl Preconditioner {
-    /// The preconditioner of the implicit viscous system in `dim` dimensions with `block`
-    /// velocity components per particle interleaved (`dim` for the coupled system with the
-    /// surface traction, 1 per component without it).
+    /// The preconditioner of the implicit viscous system of `rows` rows in `dim` dimensions
+    /// with `block` velocity components per particle interleaved (`dim` for the coupled system
+    /// with the surface traction, 1 per component without it): [`Preconditioner::BlockJacobi`]
+    /// in 3D and in 2D from [`BLOCK_JACOBI_MIN_ROWS`] rows, ILU(0) below. Block Jacobi has no
+    /// sequential part.
     ///
-    /// 3D: [`Preconditioner::BlockJacobi`]. With ~250 neighbours per particle (quintic kernel,
-    /// h = 1.3 dr) and, with the surface traction, a full 3 x 3 block per pair, the coupled
-    /// rows hold ~750 entries and ILU(0)'s factorisation costs ~(entries / 2)^2 per row, about
-    /// 60 mat-vecs, every step, on one thread; block Jacobi needs ~6x the iterations
-    /// but has no set-up beyond the blocks and nothing sequential. Measured on King & Lind's
-    /// Re = 4 drop as a sphere at 20 per diameter (4,224 particles, one thread, to t* = 0.15):
-    /// the run took 17.4 s of CPU with ILU(0) and 6.1 s with block Jacobi.
+    /// 3D: with ~250 neighbours per particle (quintic kernel, h = 1.3 dr) and, with the surface
+    /// traction, a full 3 x 3 block per pair, the coupled rows hold ~750 entries and ILU(0)'s
+    /// factorisation costs ~(entries / 2)^2 per row, about 60 mat-vecs, every step, on one
+    /// thread; block Jacobi needs ~6x the iterations but has no set-up beyond the blocks.
+    /// Measured on King & Lind's Re = 4 drop as a sphere at 20 per diameter (4,224 particles,
+    /// one thread, to t* = 0.15): the run took 17.4 s of CPU with ILU(0) and 6.1 s with block
+    /// Jacobi.
     ///
-    /// 2D: [`Preconditioner::Ilu0`]. ~50 neighbours make its factorisation cheap (a handful
-    /// of mat-vecs): on the 2D drop at 40 per width block Jacobi needs 12.0 iterations against
-    /// ILU(0)'s 2.3 and costs the same CPU time on one thread (2.18 s against 2.21 s to t* = 1).
-    pub fn for_viscous(dim: usize, block: usize) -> Self {
-        if dim == 3 {
+    /// 2D (~50 neighbours): ILU(0) needs fewer iterations, but its factorisation and triangular
+    /// solves run on one thread (more than a third of a step at 10^4 particles), and block
+    /// Jacobi costs less CPU even on one thread. The scaling bench's drop, one thread,
+    /// iterations per step and the viscous solve's CPU: 10^3 particles (2,040 rows, 51 steps)
+    /// 14.6 and 0.46 s against ILU(0)'s 2.4 and 0.53 s; 10^4 (28 steps) 19.7 and 3.07 s against
+    /// 3.0 and 3.58 s; 10^5 (4 steps) 33.8 and 7.00 s against 5.5 and 7.34 s. ILU(0) of fixed
+    /// blocks of consecutive rows (parallel, the same bits on any thread count) lost too much
+    /// of the coupling: 7.7 / 9.1 / 12.8 iterations at 10^4 with blocks of 2048 / 1024 / 512
+    /// rows.
+    pub fn for_viscous(rows: usize, dim: usize, block: usize) -> Self {
+        if dim == 3 || rows >= BLOCK_JACOBI_MIN_ROWS {
             Preconditioner::BlockJacobi(block)
         } else {
             Preconditioner::Ilu0
         }
     }
 }
+
+/// Smallest pressure system preconditioned by AMG ([`Preconditioner::for_pressure`]).
+pub const AMG_MIN_ROWS: usize = 5_000;
+/// Smallest 2D viscous system preconditioned by block Jacobi
+/// ([`Preconditioner::for_viscous`]): the 10^3-particle drop's coupled system (2,040 rows)
+/// was measured to gain; smaller systems keep ILU(0), whose one-thread part is then a few
+/// hundred microseconds a step.
+pub const BLOCK_JACOBI_MIN_ROWS: usize = 2_000;
 
 impl Default for Preconditioner {
     /// ILU(0): measured the fastest robust option (module documentation).
@@ -379,6 +404,8 @@ pub fn bicgstab(
         let (mut rho, mut alpha, mut omega) = (1.0f64, 1.0f64, 1.0f64);
         p.iter_mut().for_each(|e| *e = 0.0);
         v.iter_mut().for_each(|e| *e = 0.0);
+        // rhat . r of the coming iteration (the last one's update computes it with |r|).
+        let mut rho_next = dot(&rhat, &r);
         loop {
             if it >= opts.max_iter {
                 return Err(SolveError::NotConverged {
@@ -387,7 +414,7 @@ pub fn bicgstab(
                 });
             }
             it += 1;
-            let rho_new = dot(&rhat, &r);
+            let rho_new = rho_next;
             if rho_new == 0.0 || !rho_new.is_finite() {
                 return Err(breakdown("rho", it, rho_new, rnorm / bnorm));
             }
@@ -404,11 +431,14 @@ pub fn bicgstab(
                 return Err(breakdown("rho", it, rv, rnorm / bnorm));
             }
             alpha = rho / rv;
-            s.par_iter_mut()
-                .zip(r.par_iter().zip(v.par_iter()))
-                .with_min_len(ROW_CHUNK)
-                .for_each(|(s, (r, v))| *s = r - alpha * v);
-            let snorm = dot(&s, &s).sqrt();
+            // s = r - alpha v and |s|^2, one pass.
+            let [ss] = chunked_sums(&mut s, |c, s| {
+                for (k, si) in s.iter_mut().enumerate() {
+                    *si = r[c + k] - alpha * v[c + k];
+                }
+                [chunk_dot(s, s)]
+            });
+            let snorm = ss.sqrt();
             if snorm <= target {
                 x.par_iter_mut()
                     .zip(y.par_iter())
@@ -418,20 +448,37 @@ pub fn bicgstab(
             }
             m.apply(a, &s, &mut z);
             a.matvec(&z, &mut t);
-            let tt = dot(&t, &t);
-            omega = if tt > 0.0 { dot(&t, &s) / tt } else { 0.0 };
+            // t . t and t . s, one pass.
+            let parts: Vec<[f64; 2]> = t
+                .par_chunks(DOT_CHUNK)
+                .zip(s.par_chunks(DOT_CHUNK))
+                .map(|(t, s)| [chunk_dot(t, t), chunk_dot(t, s)])
+                .collect();
+            let tt: f64 = parts.iter().map(|q| q[0]).sum();
+            omega = if tt > 0.0 {
+                parts.iter().map(|q| q[1]).sum::<f64>() / tt
+            } else {
+                0.0
+            };
             if omega == 0.0 || !omega.is_finite() {
                 return Err(breakdown("omega", it, omega, snorm / bnorm));
             }
-            x.par_iter_mut()
-                .zip(y.par_iter().zip(z.par_iter()))
-                .with_min_len(ROW_CHUNK)
-                .for_each(|(x, (y, z))| *x += alpha * y + omega * z);
-            r.par_iter_mut()
-                .zip(s.par_iter().zip(t.par_iter()))
-                .with_min_len(ROW_CHUNK)
-                .for_each(|(r, (s, t))| *r = s - omega * t);
-            rnorm = dot(&r, &r).sqrt();
+            // x += alpha y + omega z, r = s - omega t, |r|^2 and the next rhat . r, one pass.
+            let parts: Vec<[f64; 2]> = x
+                .par_chunks_mut(DOT_CHUNK)
+                .zip(r.par_chunks_mut(DOT_CHUNK))
+                .enumerate()
+                .map(|(c, (xc, rc))| {
+                    let c = c * DOT_CHUNK;
+                    for (k, (xi, ri)) in xc.iter_mut().zip(rc.iter_mut()).enumerate() {
+                        *xi += alpha * y[c + k] + omega * z[c + k];
+                        *ri = s[c + k] - omega * t[c + k];
+                    }
+                    [chunk_dot(rc, rc), chunk_dot(&rhat[c..c + rc.len()], rc)]
+                })
+                .collect();
+            rnorm = parts.iter().map(|q| q[0]).sum::<f64>().sqrt();
+            rho_next = parts.iter().map(|q| q[1]).sum();
             if !rnorm.is_finite() {
                 return Err(SolveError::NonFinite { iteration: it });
             }
@@ -444,6 +491,31 @@ pub fn bicgstab(
             return Err(SolveError::NonFinite { iteration: it });
         }
     }
+}
+
+/// The sum of `x_i y_i` over one chunk, in order: a chunk's partial sum of [`dot`], so that
+/// sums fused with a vector update give the same bits as [`dot`] after it.
+#[inline]
+fn chunk_dot(x: &[f64], y: &[f64]) -> f64 {
+    x.iter().zip(y).map(|(p, q)| p * q).sum::<f64>()
+}
+
+/// Run `f(start, chunk)` on `out` in the fixed chunks of [`DOT_CHUNK`] entries in parallel and
+/// add its `K` partial sums in chunk order (as [`dot`] does).
+fn chunked_sums<const K: usize>(
+    out: &mut [f64],
+    f: impl Fn(usize, &mut [f64]) -> [f64; K] + Sync,
+) -> [f64; K] {
+    let parts: Vec<[f64; K]> = out
+        .par_chunks_mut(DOT_CHUNK)
+        .enumerate()
+        .map(|(c, o)| f(c * DOT_CHUNK, o))
+        .collect();
+    let mut sums = [0.0; K];
+    for (k, sum) in sums.iter_mut().enumerate() {
+        *sum = parts.iter().map(|q| q[k]).sum();
+    }
+    sums
 }
 
 fn breakdown(quantity: &'static str, iteration: usize, value: f64, rel: f64) -> SolveError {

@@ -45,17 +45,20 @@
 //! assembly gathers each row by itself, in parallel, and [`CsrMatrix::from_rows`] sorts and
 //! merges each row by itself (the coupled viscous system is assembled a particle's block row at
 //! a time, its neighbours sorted once by column and each block summed in neighbour order: the
-//! same entries, bit for bit, without sorting its ~750-entry 3D rows); SSOR's and ILU(0)'s triangular solves are sequential; the
-//! multigrid cycle ([`Amg`]) is row-parallel throughout. Results are bitwise identical
-//! whatever the rayon thread count.
+//! same entries, bit for bit, without sorting its ~750-entry 3D rows); SSOR's and ILU(0)'s
+//! triangular solves are sequential; the multigrid cycle ([`Amg`]) is row-parallel throughout.
+//! BiCGStab fuses each vector update with the dot products that follow it into one pass over
+//! the same fixed chunks (fewer parallel regions per iteration, the same bits as separate
+//! passes). Results are bitwise identical whatever the rayon thread count.
 //!
-//! The pressure takes [`Preconditioner::for_pressure`]: ILU(0) below [`AMG_MIN_ROWS`] rows,
-//! smoothed-aggregation AMG from there (its iterations stay at 5-9 where ILU(0)'s grow from 8
-//! to 58 between 1,300 and 80,000 rows in cold solves; [`Amg`]'s documentation has the measurements). The
-//! viscous systems take [`Preconditioner::for_viscous`]: ILU(0) in 2D (2-3 iterations, where
-//! AMG's set-up does not pay), block Jacobi in 3D (one `3 x 3` block per particle of the
-//! coupled system: ILU(0)'s factorisation of its ~750-entry rows was most of a 3D ISPH step,
-//! and block Jacobi has no sequential part).
+//! The pressure takes [`Preconditioner::for_pressure`]: ILU(0) below [`AMG_MIN_ROWS`] = 5,000
+//! rows, smoothed-aggregation AMG from there (its iterations stay at 5-9 where ILU(0)'s grow
+//! from 8 to 58 between 1,300 and 80,000 rows in cold solves, and 5.7 / 5.8 per solve at 10^4 /
+//! 10^5 particles in the ISPH drop; [`Amg`]'s documentation has the measurements). The viscous
+//! systems take [`Preconditioner::for_viscous`]: block Jacobi (one `N x N` block per particle
+//! of the coupled system, nothing sequential) in 3D and from [`BLOCK_JACOBI_MIN_ROWS`] rows in
+//! 2D, ILU(0) below (its factorisation and triangular solves run on one thread; in 3D its
+//! factorisation of the ~750-entry rows was most of a step).
 //!
 //! # Measured (`cargo run --release --example ppe_bench`, 2-core VM, 2 threads)
 //! Disc of particles on a square lattice (and the same lattice displaced by up to +/-0.15 dr),

@@ -321,14 +321,13 @@ pub(super) fn assemble_coupled<const N: usize>(
             row_ptr.push(start + len);
         }
     }
-    let col = per_particle
-        .par_iter()
-        .flat_map_iter(|(p, _)| p.col.iter().copied())
-        .collect();
-    let val = per_particle
-        .par_iter()
-        .flat_map_iter(|(p, _)| p.val.iter().copied())
-        .collect();
+    // A particle's N rows are contiguous: each run of particles fills its own slice.
+    let (col, val) = super::fill_rows(&row_ptr, N * 64, |row, c, v| {
+        let (p, k) = (&per_particle[row / N].0, row % N);
+        let start: usize = p.len[..k].iter().sum();
+        c.copy_from_slice(&p.col[start..start + p.len[k]]);
+        v.copy_from_slice(&p.val[start..start + p.len[k]]);
+    });
     let b = per_particle
         .iter()
         .flat_map(|(_, bi)| bi.iter().copied())
