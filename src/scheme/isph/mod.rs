@@ -229,6 +229,22 @@ where
         })
     }
 
+    /// Book a linear solve's time since `since` to `names[0]`, or to `names[1]` on one thread
+    /// where ILU(0) preconditions it (its factorisation and triangular solves are sequential;
+    /// an upper bound, its matrix-vector products run on all threads).
+    fn lap_solve(
+        &self,
+        since: Option<Stamp>,
+        opts: &SolverOptions,
+        names: [&'static str; 2],
+    ) -> Option<Stamp> {
+        if opts.preconditioner == ppe::Preconditioner::Ilu0 {
+            self.lap(since, names[1], true)
+        } else {
+            self.lap(since, names[0], false)
+        }
+    }
+
     /// The scheme for the numerics `cfg` of an effective configuration, the constants `p` (which
     /// say whether the scene has a free surface and what `auto` means for it) and the plates of
     /// the initial state.

@@ -235,13 +235,7 @@ where
         let stats = ppe::solve(&sys, &mut pres, &opts)
             .map_err(|e| format!("pressure Poisson equation: {e}"))?;
         books.iterations[0] = stats.iterations as u64;
-        // ILU(0)'s factorisation and triangular solves run on one thread (an upper bound: its
-        // matrix-vector products run on all).
-        if opts.preconditioner == ppe::Preconditioner::Ilu0 {
-            self.lap(t, "pressure solve, ILU(0)", true);
-        } else {
-            self.lap(t, "pressure solve", false);
-        }
+        self.lap_solve(t, &opts, ["pressure solve", "pressure solve, ILU(0)"]);
         books.pressure_time += t0.elapsed().as_secs_f64();
         Ok(Pressure {
             p: pres,

@@ -158,7 +158,7 @@ where
             )
             .map_err(|e| format!("implicit viscous step: {e}"))?;
             books.iterations[1] = stats.iterations as u64;
-            t = self.lap_solve(t, &opts(N));
+            t = self.lap_solve(t, &opts(N), ["viscous solve", "viscous solve, ILU(0)"]);
             if books.plate.is_on() {
                 plate_terms = self.viscous_wall_terms(ctx, &coef, theta, visc_curv, &u);
             }
@@ -203,7 +203,7 @@ where
             )
             .map_err(|e| format!("implicit viscous step: {e}"))?;
             books.iterations[1] = stats.iter().map(|s| s.iterations as u64).sum();
-            t = self.lap_solve(t, &opts(1));
+            t = self.lap_solve(t, &opts(1), ["viscous solve", "viscous solve, ILU(0)"]);
             if books.plate.is_on() {
                 plate_terms = self.viscous_wall_terms(ctx, &coef, theta, visc_curv, &u);
             }
@@ -223,21 +223,6 @@ where
         self.lap(t, "viscous: momentum books", true);
         books.viscous_time += t0.elapsed().as_secs_f64();
         Ok(u)
-    }
-
-    /// Book the viscous solve's time: to a part on one thread where ILU(0) preconditions it
-    /// (its factorisation and triangular solves are sequential; an upper bound, its
-    /// matrix-vector products run on all threads).
-    fn lap_solve(
-        &self,
-        t: Option<crate::profile::Stamp>,
-        opts: &ppe::SolverOptions,
-    ) -> Option<crate::profile::Stamp> {
-        if opts.preconditioner == ppe::Preconditioner::Ilu0 {
-            self.lap(t, "viscous solve, ILU(0)", true)
-        } else {
-            self.lap(t, "viscous solve", false)
-        }
     }
 
     /// Each wall's share of the implicit viscous force on the fluid, where the step splits the

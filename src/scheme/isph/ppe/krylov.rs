@@ -12,7 +12,6 @@ pub enum Preconditioner {
     Ssor,
     /// Incomplete LU factorisation with the matrix's own sparsity pattern.
     Ilu0,
-
     /// One W-cycle of smoothed-aggregation algebraic multigrid ([`Amg`]).
     Amg,
     /// Block Jacobi: the inverse of each `k x k` diagonal block (rows and columns `k b ..
