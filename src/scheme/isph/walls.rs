@@ -11,7 +11,11 @@
 //! In the closed periodic channel the continuation is second order: the virtual velocities
 //! carry the wall curvature the odd continuation misses, and the virtual Phi the fitted
 //! shear-stress slope ([`wall_profile`], which fits the profiles across the plate's normal: a
-//! fully developed channel between straight walls).
+//! fully developed channel between straight walls). Across a curved wall in a closed cell (the
+//! cylinder array) the virtual Phi carries the shear-stress slope fitted along the wall
+//! ([`wall_profile::local_shear_stress_corrections`]); the virtual velocities keep the plain
+//! odd continuation (the curvature fitted along the cylinder made the drag worse: see
+//! `validation/cylinder_array/README.md`).
 
 use super::{Context, Isph};
 use crate::boundary::mirror::MirrorWall;
@@ -163,8 +167,9 @@ where
     Const<N>: Dim,
 {
     /// The virtual particles' Phi from the fluid's `phi`, as each wall model continues it across
-    /// its wall (mirrors: the parent's); in the closed channel plus the fitted shear-stress
-    /// slope ([`wall_profile::shear_stress_corrections`]).
+    /// its wall (mirrors: the parent's); in a closed cell plus the fitted shear-stress slope,
+    /// over the whole wall for a straight one ([`wall_profile::shear_stress_corrections`]) and
+    /// along the wall for a curved one ([`wall_profile::local_shear_stress_corrections`]).
     pub(super) fn virtual_stresses(
         &self,
         ctx: &Context<N>,
@@ -178,18 +183,26 @@ where
             wall.fill_stresses(plate, fluid, &[], phi, &mut pm[r.clone()]);
         }
         if !self.free_surface {
-            for (plate, r) in plates.iter().zip(&virt.ranges) {
-                // Straight walls only (see `velocity_curvature`).
-                let Some(plate) = plate.plate() else {
-                    continue;
+            let (radius, par) = (self.kernel.radius(), &virt.parent);
+            for (wall, r) in plates.iter().zip(&virt.ranges) {
+                let d = match wall.plate() {
+                    Some(plate) => wall_profile::shear_stress_corrections(
+                        plate,
+                        &ctx.xs,
+                        &par[r.clone()],
+                        phi,
+                        radius,
+                    ),
+                    // A curved wall: the slope fitted along it, over half the reach.
+                    None => wall_profile::local_shear_stress_corrections(
+                        wall,
+                        &ctx.xs,
+                        &par[r.clone()],
+                        phi,
+                        radius,
+                        0.5 * radius,
+                    ),
                 };
-                let d = wall_profile::shear_stress_corrections(
-                    plate,
-                    &ctx.xs,
-                    &virt.parent[r.clone()],
-                    phi,
-                    self.kernel.radius(),
-                );
                 for (p, dp) in pm[r.clone()].iter_mut().zip(d) {
                     *p += dp;
                 }
