@@ -74,8 +74,8 @@ pub const VELOCITY_SCALE: f64 = A0 * RADIUS;
 /// The parameters the scene takes from the configuration: `scheme`, `particles_per_diameter`
 /// (the lattice across the 2 m diameter), `smoothing_ratio`, `time_step_factor`,
 /// `equation_of_state`, `density_reinit_interval` (PDRI) and `sound_speed` (0: the scene's
-/// [`SOUND_SPEED`]; the weakly compressible error of the semi-axes goes with the Mach number
-/// A0 R / c). Everything else is the scene's own ([`effective_config`]).
+/// [`SOUND_SPEED`]), so that a run can set the Mach number A0 R / c. Everything else is the
+/// scene's own ([`effective_config`]).
 pub const TAKEN: &[&str] = &[
     "scene",
     "scheme",
