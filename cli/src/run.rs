@@ -169,10 +169,10 @@ pub fn sound_speed_text(cfg: &SceneConfig, eff: &SceneConfig) -> String {
     let c = eff.resolved_sound_speed();
     if let Some(text) = cfg.scheme.sound_speed_text() {
         text.into()
-    } else if let Some(own) = cfg.scene_def().own_sound_speed() {
-        format!("sound speed c = {c} m/s ({own})")
     } else if cfg.numerics.sound_speed > 0.0 {
         format!("sound speed c = {c} m/s (set)")
+    } else if let Some(own) = cfg.scene_def().own_sound_speed() {
+        format!("sound speed c = {c} m/s ({own})")
     } else {
         format!(
             "sound speed c = {c:.3} m/s (automatic: {} x {:.3} m/s, impact speed plus free fall, plus max_plate_speed for the drop)",

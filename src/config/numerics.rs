@@ -129,7 +129,7 @@ crate::params! {
         particles_per_diameter: i64 = integer(20, 4, 4000), vr 19, unit "";
             "Resolution: lattice spacing dx = drop_diameter / particles_per_diameter",
         sound_speed: f64 = real(0.0, 0.0, 1.0e5), vr 20, unit "m/s";
-            "Artificial speed of sound c in the equation of state; 0 = automatic: 10 times the largest speed the scene can reach (the drop: impact speed plus free fall plus max_plate_speed; the jet: its inflow up to max_jet_velocity; the channel and the cylinder array: their flow), for about 1 % density variation. Ignored under isph (incompressible: no equation of state)",
+            "Artificial speed of sound c in the equation of state; 0 = automatic: 10 times the largest speed the scene can reach (the drop: impact speed plus free fall plus max_plate_speed; the jet: its inflow up to max_jet_velocity; the channel and the cylinder array: their flow; the elliptical drop: its own 1400 m/s), for about 1 % density variation. Ignored under isph (incompressible: no equation of state)",
         artificial_viscosity_alpha: f64 = real(1.0, 0.0, 10.0), vr 21, unit "1";
             "Monaghan artificial viscosity alpha (Fang 2006 eq. 31). Ignored under isph",
         artificial_viscosity_beta: f64 = real(2.0, 0.0, 10.0), vr 22, unit "1";

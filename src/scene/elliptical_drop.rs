@@ -30,10 +30,12 @@
 //! checked. [`exact_axes`] integrates it; [`axes`] measures a run.
 //!
 //! The scene defines its own physics, independent of the drop parameters of the configuration:
-//! rho0 = 1000 kg/m3, Newtonian with eta = 0.001 Pa s, c = 1400 m/s, no gravity, no plate, and no
+//! rho0 = 1000 kg/m3, Newtonian with eta = 0.001 Pa s, no gravity, no plate, and no
 //! artificial viscosity or artificial stress (Ren runs it "without enforcing the artificial
-//! viscosity, artificial stress, and rigid boundary condition"). See [`effective_config`] for the
-//! parameters it takes from the configuration.
+//! viscosity, artificial stress, and rigid boundary condition"). Its sound speed is
+//! `sound_speed` when set, else its own c = 1400 m/s ([`SOUND_SPEED`], Mach 0.07 at the rim's
+//! initial speed A0 R = 100 m/s). See [`effective_config`] for the parameters it takes from the
+//! configuration.
 //!
 //! Lattice: points (i dx, j dx) with i^2 + j^2 <= (R/dx)^2, dx = 2R / particles_per_diameter
 //! (in 3D the cubic lattice in the sphere: 4169 points at 20 per diameter).
@@ -57,7 +59,7 @@ pub const RADIUS: f64 = 1.0;
 pub const DENSITY: f64 = 1000.0;
 /// Dynamic viscosity \[Pa s\].
 pub const VISCOSITY: f64 = 0.001;
-/// Speed of sound \[m/s\].
+/// Speed of sound when `sound_speed` is 0 (automatic) \[m/s\]: Monaghan's and Ren's value.
 pub const SOUND_SPEED: f64 = 1400.0;
 /// Initial stretching rate A0 \[1/s\].
 pub const A0: f64 = 100.0;
@@ -71,8 +73,9 @@ pub const VELOCITY_SCALE: f64 = A0 * RADIUS;
 
 /// The parameters the scene takes from the configuration: `scheme`, `particles_per_diameter`
 /// (the lattice across the 2 m diameter), `smoothing_ratio`, `time_step_factor`,
-/// `equation_of_state` and `density_reinit_interval` (PDRI). Everything else is the scene's own
-/// ([`effective_config`]).
+/// `equation_of_state`, `density_reinit_interval` (PDRI) and `sound_speed` (0: the scene's
+/// [`SOUND_SPEED`]), so that a run can set the Mach number A0 R / c. Everything else is the
+/// scene's own ([`effective_config`]).
 pub const TAKEN: &[&str] = &[
     "scene",
     "scheme",
@@ -82,11 +85,14 @@ pub const TAKEN: &[&str] = &[
     "time_step_factor",
     "equation_of_state",
     "density_reinit_interval",
+    "sound_speed",
 ];
 
 /// The configuration the solver actually runs for this scene: the parameters of [`TAKEN`]
-/// from `cfg`, and the scene's own `density`, `viscosity`, `rheology` = newtonian,
-/// `sound_speed`, `gravity` = 0, the artificial viscosity and stress switched off, and no
+/// from `cfg` (`sound_speed` 0, automatic, becomes [`SOUND_SPEED`]: the automatic speed of the
+/// other scenes follows a fall or an impact, of which this scene has none), and the scene's own
+/// `density`, `viscosity`, `rheology` = newtonian, `gravity` = 0, the artificial viscosity and
+/// stress switched off, and no
 /// fracture check (`fracture_void_fraction` = 0): the void fraction is measured on cells of
 /// 2 dx, and by t = 0.008 s the lattice rows are stretched to twice their spacing, so the gaps
 /// between intact rows would count as holes.
@@ -98,7 +104,9 @@ pub fn effective_config(cfg: &SceneConfig) -> SceneConfig {
     f.rheology = RheologyKind::Newtonian;
     f.gravity = 0.0;
     let n = &mut e.numerics;
-    n.sound_speed = SOUND_SPEED;
+    if n.sound_speed <= 0.0 {
+        n.sound_speed = SOUND_SPEED;
+    }
     n.artificial_viscosity_alpha = 0.0;
     n.artificial_viscosity_beta = 0.0;
     n.artificial_stress_kind = ArtificialStressKind::Fang;
@@ -382,7 +390,7 @@ impl Scene for EllipticalDrop {
         2.0 * RADIUS
     }
 
-    /// Nothing falls (the scene fixes its own sound speed, [`SOUND_SPEED`]).
+    /// Nothing falls (the scene's automatic sound speed is its own, [`SOUND_SPEED`]).
     fn max_expected_speed(&self, _cfg: &SceneConfig) -> f64 {
         1e-3
     }
@@ -494,13 +502,14 @@ impl Scene for EllipticalDrop {
     }
 
     fn own_sound_speed(&self) -> Option<&'static str> {
-        Some("the elliptical drop's own")
+        Some("the elliptical drop's own; set sound_speed for another")
     }
 
     fn taken_parameters(&self) -> Option<(&'static str, &'static [&'static str])> {
         Some((
-            "# The elliptical drop defines its own fluid, size, velocity field and sound speed\n\
-             # (Monaghan 1994); these are the parameters it takes from the scene file.\n",
+            "# The elliptical drop defines its own fluid, size and velocity field (Monaghan 1994)\n\
+             # and, unless sound_speed is set, its sound speed; these are the parameters it takes\n\
+             # from the scene file.\n",
             TAKEN,
         ))
     }

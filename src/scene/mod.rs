@@ -281,8 +281,9 @@ pub trait Scene: Send + Sync {
         None
     }
 
-    /// For a scene that fixes its own sound speed (whatever `sound_speed` says), where it comes
-    /// from, e.g. "the elliptical drop's own".
+    /// For a scene whose sound speed, when `sound_speed` is 0 (automatic), is its own rather
+    /// than ten times its largest expected speed: where it comes from, e.g. "the elliptical
+    /// drop's own".
     fn own_sound_speed(&self) -> Option<&'static str> {
         None
     }
