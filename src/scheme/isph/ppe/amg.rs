@@ -369,7 +369,7 @@ fn aggregate_nodal(a: &CsrMatrix, theta: f64, block: usize) -> (Vec<u32>, usize)
             let (cs, vs) = a.row(block * i);
             cs.iter()
                 .zip(vs)
-                .filter(|&(&c, _)| c % k == 0)
+                .filter(|&(&c, _)| c.is_multiple_of(k))
                 .map(|(&c, &v)| (c / k, v))
                 .collect()
         })
