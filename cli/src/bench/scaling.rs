@@ -3,8 +3,10 @@
 //! at 10^3, 10^4 and 10^5: wall time per step, speed-up and parallel efficiency, and from the
 //! per-pass timers ([`viscosph::profile`]) the serial share of a step at one thread and its
 //! Amdahl projection to 16 threads; for ISPH also the shares of the pressure and viscous solves
-//! (of the CPU time at one thread) and their iterations against the particle count; and the
-//! per-pass tables of the largest WCSPH case and of the ISPH case at 10^4 particles.
+//! (of the CPU time at one thread) and their iterations against the particle count; for the
+//! WCSPH case at 10^5 particles each part's efficiency, the points of the step's efficiency it
+//! costs and its CPU time on the most threads over one thread's; and the per-pass tables of the
+//! largest WCSPH case and of the ISPH case at 10^4 particles.
 //!
 //! On a machine shared with other work the wall clock counts the time others hold the cores: the
 //! section states the load average before and after, and the CPU time per particle-step (which
@@ -97,7 +99,14 @@ fn cases(quick: bool) -> Vec<(String, SceneConfig, u64)> {
         let h = 0.5 * cfg.drop.drop_diameter + 1.5 * cfg.dx();
         cfg.set("initial_drop_height", Value::Real(h))
             .expect("valid");
-        let steps = ((2e6 / n) as u64).clamp(6, 200) / if quick { 4 } else { 1 };
+        // About 2e7 particle-steps a run (8-16 s at one thread on the machine of
+        // docs/bench/scaling.md; at most 1,000 steps, at least 20): with 19 steps at 10^5 and 5
+        // at 10^6 the 2-thread efficiency moved by about 4 % from run to run.
+        let steps = if quick {
+            ((2e6 / n) as u64).clamp(6, 200) / 4
+        } else {
+            ((2e7 / n) as u64).clamp(20, 1000)
+        };
         out.push(("WCSPH Newtonian drop".to_string(), cfg, steps.max(4)));
     }
     for &n in isph_sizes {
@@ -202,6 +211,54 @@ pub fn bench_scaling(out: &Path, quick: bool) -> Result<String, Box<dyn std::err
             r.ppe_iterations,
             r.viscous_iterations
         )?;
+    }
+    // Where the WCSPH case nearest 10^5 particles (the acceptance's) loses on the most threads:
+    // per part, its own parallel efficiency and the CPU it takes beyond one thread's.
+    let wc_mid = runs
+        .iter()
+        .filter(|(l, _)| l.starts_with("WCSPH"))
+        .min_by_key(|(_, r)| r.particles.abs_diff(100_000))
+        .map(|(_, r)| r.particles);
+    let pick = |threads: usize| {
+        runs.iter()
+            .find(|(l, r)| {
+                l.starts_with("WCSPH") && Some(r.particles) == wc_mid && r.threads == threads
+            })
+            .map(|(_, r)| r)
+    };
+    if let (Some(one), Some(many)) = (pick(1), pick(cores).filter(|_| cores > 1)) {
+        writeln!(
+            md,
+            "\nPer pass, WCSPH Newtonian drop, {} particles, 1 against {cores} threads: each \
+             part's parallel efficiency, the points of the step's efficiency it costs \
+             ({cores} times its wall time on {cores} threads less its wall time on one, over \
+             {cores} times the step's wall time on {cores} threads: these sum to 100 % less the \
+             step's efficiency, with the untimed rest) and the CPU time it takes on {cores} \
+             threads over one thread's (above 1: overhead, or memory traffic the threads \
+             share).\n\n| part | wall, 1 thread [ms/step] | wall, {cores} threads [ms/step] | \
+             efficiency | step efficiency lost | CPU {cores} / 1 |\n|---|---|---|---|---|---|",
+            one.particles
+        )?;
+        let (s1, sn) = (one.steps.max(1) as f64, many.steps.max(1) as f64);
+        for p in &one.timings.parts {
+            let Some(q) = many.timings.parts.iter().find(|q| q.name == p.name) else {
+                continue;
+            };
+            let (w1, wn) = (p.wall / s1, q.wall / sn);
+            if w1 < 1e-3 * one.step_wall() {
+                continue;
+            }
+            writeln!(
+                md,
+                "| {} | {:.3} | {:.3} | {:.0} % | {:.1} % | {:.3} |",
+                p.name,
+                1e3 * w1,
+                1e3 * wn,
+                100.0 * w1 / (cores as f64 * wn),
+                100.0 * (cores as f64 * wn - w1) / (cores as f64 * many.step_wall()),
+                (q.cpu / sn) / (p.cpu / s1).max(f64::MIN_POSITIVE)
+            )?;
+        }
     }
     // The per-pass tables of the largest WCSPH case and of the ISPH case nearest 10^4
     // particles (the acceptance's), at one thread and at the most threads.

@@ -19,6 +19,11 @@ pub enum Preconditioner {
     /// step); `BlockJacobi(1)` is [`Preconditioner::Jacobi`]. No sequential part: set-up and
     /// application are per block, so it costs nothing serial and scales with the threads.
     BlockJacobi(usize),
+    /// One W-cycle of plain-aggregation algebraic multigrid (the tentative prolongation, not
+    /// smoothed) for systems with `k` unknowns per particle interleaved (the coupled viscous
+    /// step), aggregated by particle ([`Amg::with_options`]): the implicit viscous system's
+    /// preconditioner from [`VISCOUS_AMG_MIN_ROWS`] rows in 2D.
+    AmgNodal(usize),
 }
 
 impl Preconditioner {
@@ -45,9 +50,10 @@ impl Preconditioner {
 
     /// The preconditioner of the implicit viscous system of `rows` rows in `dim` dimensions
     /// with `block` velocity components per particle interleaved (`dim` for the coupled system
-    /// with the surface traction, 1 per component without it): [`Preconditioner::BlockJacobi`]
-    /// in 3D and in 2D from [`BLOCK_JACOBI_MIN_ROWS`] rows, ILU(0) below. Block Jacobi has no
-    /// sequential part.
+    /// with the surface traction, 1 per component without it): in 2D
+    /// [`Preconditioner::AmgNodal`] from [`VISCOUS_AMG_MIN_ROWS`] rows, block Jacobi from
+    /// [`BLOCK_JACOBI_MIN_ROWS`] rows, ILU(0) below; in 3D [`Preconditioner::BlockJacobi`].
+    /// Neither block Jacobi nor the multigrid cycle has a sequential part.
     ///
     /// 3D: with ~250 neighbours per particle (quintic kernel, h = 1.3 dr) and, with the surface
     /// traction, a full 3 x 3 block per pair, the coupled rows hold ~750 entries and ILU(0)'s
@@ -66,7 +72,21 @@ impl Preconditioner {
     /// blocks of consecutive rows (parallel, the same bits on any thread count) lost too much
     /// of the coupling: 7.7 / 9.1 / 12.8 iterations at 10^4 with blocks of 2048 / 1024 / 512
     /// rows.
+    ///
+    /// Block Jacobi's iterations grow with the resolution (the step falls like the spacing, so
+    /// the Laplacian's weight against the identity grows like its inverse): 17.2 / 19.7 / 34.0
+    /// per step at 10^3 / 10^4 / 10^5 particles. Plain-aggregation multigrid keeps them at
+    /// 4-5 but costs a set-up and a dearer cycle (about 15 mat-vecs an iteration against 2);
+    /// with it from [`VISCOUS_AMG_MIN_ROWS`] the counts are 17.2 / 19.7 / 5.0. Measured on the
+    /// scaling bench's drop (one thread, AMD EPYC under load, iterations per step and the
+    /// viscous solve's CPU, assembly included): 10^4 particles (38 steps) block Jacobi 20.3 and
+    /// 3.18 s, plain aggregation 4.18 and 4.48 s (smoothed: 3.89 and 5.66 s); 10^5 (4 steps,
+    /// two runs each, alternated) block Jacobi 34.0 and 5.80 / 5.92 s, plain aggregation 5.0
+    /// and 6.08 / 6.43 s (smoothed: 5.0 and 7.47 s).
     pub fn for_viscous(rows: usize, dim: usize, block: usize) -> Self {
+        if dim == 2 && rows >= VISCOUS_AMG_MIN_ROWS {
+            return Preconditioner::AmgNodal(block);
+        }
         if dim == 3 || rows >= BLOCK_JACOBI_MIN_ROWS {
             Preconditioner::BlockJacobi(block)
         } else {
@@ -82,6 +102,12 @@ pub const AMG_MIN_ROWS: usize = 5_000;
 /// was measured to gain; smaller systems keep ILU(0), whose one-thread part is then a few
 /// hundred microseconds a step.
 pub const BLOCK_JACOBI_MIN_ROWS: usize = 2_000;
+/// Smallest 2D viscous system preconditioned by plain-aggregation multigrid
+/// ([`Preconditioner::for_viscous`]): about 5 x 10^4 particles' coupled system. At 10^4
+/// particles (20,000 rows) block Jacobi cost 30 % less; at 10^5 (200,160 rows) the multigrid's
+/// 5.0 iterations against 34.0 cost 4-8 % more of the viscous solve's CPU, and block Jacobi's
+/// count keeps growing with the resolution while the multigrid's stays.
+pub const VISCOUS_AMG_MIN_ROWS: usize = 100_000;
 
 impl Default for Preconditioner {
     /// ILU(0): measured the fastest robust option (module documentation).
@@ -163,6 +189,12 @@ impl Factor {
             Preconditioner::Jacobi => Ok(Factor::Jacobi(inv_diag(a)?)),
             Preconditioner::Ssor => Ok(Factor::Ssor(inv_diag(a)?)),
             Preconditioner::Amg => Ok(Factor::Amg(Box::new(Amg::new(a)?))),
+            Preconditioner::AmgNodal(k) => Ok(Factor::Amg(Box::new(Amg::with_options(
+                a,
+                CYCLE_VISITS,
+                k,
+                false,
+            )?))),
             Preconditioner::BlockJacobi(1) => Ok(Factor::Jacobi(inv_diag(a)?)),
             Preconditioner::BlockJacobi(k) => Ok(Factor::BlockJacobi(k, block_inverses(a, k)?)),
             Preconditioner::Ilu0 => {

@@ -58,7 +58,10 @@
 //! systems take [`Preconditioner::for_viscous`]: block Jacobi (one `N x N` block per particle
 //! of the coupled system, nothing sequential) in 3D and from [`BLOCK_JACOBI_MIN_ROWS`] rows in
 //! 2D, ILU(0) below (its factorisation and triangular solves run on one thread; in 3D its
-//! factorisation of the ~750-entry rows was most of a step).
+//! factorisation of the ~750-entry rows was most of a step), and in 2D from
+//! [`VISCOUS_AMG_MIN_ROWS`] rows plain-aggregation multigrid aggregated by particle
+//! ([`Preconditioner::AmgNodal`]), whose iterations stay at 4-5 where block Jacobi's grow
+//! like the inverse spacing.
 //!
 //! # Measured (`cargo run --release --example ppe_bench`, 2-core VM, 2 threads)
 //! Disc of particles on a square lattice (and the same lattice displaced by up to +/-0.15 dr),
