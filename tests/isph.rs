@@ -9,7 +9,7 @@ use common::{
     integrate_wall_force, r, s, series, series_bits,
 };
 use viscosph::config::Value;
-use viscosph::scene::SceneConfig;
+use viscosph::scene::{Outputs, SceneConfig};
 use viscosph::simulation::Simulation;
 use viscosph::Vec2;
 
@@ -113,20 +113,32 @@ fn oldroyd_b_drop_spreads_and_retracts() {
     assert!(ser.iter().all(|(_, o)| o.shared.min_conformation_det > 0.0));
 }
 
+/// The UCM drop (W/dr = 20, relaxation time `lambda`) to t* = 3, outputs every 0.2 t*: it runs,
+/// every output is finite, and min det A >= 1 to round-off at every output (the traceless
+/// velocity gradient and the bounded ALE term of free-surface scenes leave only relaxation to
+/// change det A, which raises it towards 1).
+fn ucm_drop_keeping_det_a_at_least_one(lambda: f64) -> Vec<(f64, Outputs)> {
+    let c = cfg(&[("rheology", s("ucm")), ("relaxation_time", r(lambda))]);
+    let (ser, err, _) = series(&c, 3.0 * T_STAR, 0.2 * T_STAR);
+    assert!(err.is_none(), "{err:?}");
+    assert_outputs_finite(&ser);
+    for (t, o) in &ser {
+        let det = o.shared.min_conformation_det;
+        assert!(det > 1.0 - 1e-6, "det A {det} at t* {}", t / T_STAR);
+    }
+    ser
+}
+
 /// UCM (beta = 0, EVSS at the floor's 0.05 eta0), De = 1 (lambda = 0.02 s), W/dr = 20. In free
 /// flight the drop translates rigidly and, for UCM in an incompressible flow, det A stays 1
 /// (ln det A follows 2 tr(kappa)); the conformation step takes the traceless part of the
 /// corrected velocity gradient, so flight keeps det A at 1 to round-off (measured 1.0000 at
-/// t* = 0.4; with the full gradient it fell to 0.78 at W/dr = 40, and at De = 10 to 0.10 after
-/// impact, where the stress then blew up). Through impact and the first retraction (t* <= 3) it
-/// stays positive definite with min det A 0.653 (t* = 2) and spreads to W* 2.25 before retracting
-/// to 1.63.
+/// t* = 0.4; with the full gradient it fell to 0.78 at W/dr = 40). Through impact and the first
+/// retraction (t* <= 3) the bounded ALE term keeps det A >= 1 (measured 1.000; 0.653 with the
+/// central difference), and the drop spreads to W* 2.30 before retracting.
 #[test]
 fn ucm_drop_keeps_det_a_at_one_in_flight() {
-    let c = cfg(&[("rheology", s("ucm")), ("relaxation_time", r(0.02))]);
-    let (ser, err, _) = series(&c, 3.0 * T_STAR, 0.2 * T_STAR);
-    assert!(err.is_none(), "{err:?}");
-    assert_outputs_finite(&ser);
+    let ser = ucm_drop_keeping_det_a_at_least_one(0.02);
     for (t, o) in &ser {
         let det = o.shared.min_conformation_det;
         if *t <= 0.4 * T_STAR {
@@ -136,12 +148,29 @@ fn ucm_drop_keeps_det_a_at_one_in_flight() {
                 t / T_STAR
             );
         }
-        assert!(det > 0.5, "det A {det} at t* {}", t / T_STAR);
     }
     let w: Vec<f64> = ser.iter().map(|(_, o)| o.shared.drop_width / W).collect();
     let w_max = w.iter().cloned().fold(0.0, f64::max);
     assert!(w_max > 2.0, "spread only to W* = {w_max}");
     assert!(*w.last().unwrap() < w_max - 0.3, "no retraction: {w:?}");
+}
+
+/// UCM (beta = 0, EVSS at the floor's 0.05 eta0), De = 10 (lambda = 0.2 s), W/dr = 20, t* <= 3:
+/// past the breakdown of the central-difference ALE term (W/dr = 20: t* = 2.8; W/dr = 40:
+/// t* = 1.03, tr A above 1e3 in the wall row at the contact line, det A down to 0.3). With the
+/// bounded (convex, one-sided) ALE term of free-surface scenes and the traceless velocity
+/// gradient, nothing lowers det A below 1 (UCM relaxation only raises it towards 1): measured
+/// min det A 1.000 and at most 1.17 to t* = 3; the drop spreads to W* = 4.70 at t* = 2.8 at
+/// both W/dr = 20 and 40 (an elastic drop with nothing but the slow relaxation to dissipate its
+/// impact; Oldroyd-B at beta = 0.05 reaches 3.3, its solvent dissipating the rest).
+#[test]
+fn ucm_drop_at_de_10_stays_bounded_through_impact() {
+    let ser = ucm_drop_keeping_det_a_at_least_one(0.2);
+    let w_max = ser
+        .iter()
+        .map(|(_, o)| o.shared.drop_width / W)
+        .fold(0.0, f64::max);
+    assert!((4.4..5.0).contains(&w_max), "W* max {w_max}");
 }
 
 /// The wall force is what the mirrors exert, and the momentum balance is exact: impulse of the

@@ -49,20 +49,44 @@
 //! rate of the viscosity keep the full gradient). Closed flows keep the full gradient: there
 //! the PPE has no density source and no surface rows, and in the Eulerian Oldroyd-B channel at
 //! Wi = 50 (test `eulerian_isph_channel_advects_the_stress_stably_at_wi_50`) the traceless
-//! gradient lowered the smallest det A from above 0.9999999 to 0.99998. Measured on King & Lind's drop (eta0 = 5 Pa s, default step, outputs
-//! every 0.2 t*, `viscosph run`, W*(8) / largest |volume_error| / min det A over t* <= 8, the
-//! full gradient in brackets): in free flight (a rigid translation) min det A is now 1.000
-//! (UCM De = 10, W/dr = 40: 0.766). UCM, De = 1: W/dr = 20 1.995 / 2.02 % / 0.653
-//! (2.307 / 2.51 % / 0.303); W/dr = 40 1.906 / 1.65 % / 0.098 (2.019 / 1.77 % / 0.195).
-//! Oldroyd-B, De = 1, beta = 0.1: W/dr = 20 1.877 / 2.49 % / 1.000 (1.933 / 2.78 % / 0.314);
-//! W/dr = 40 1.868 / 1.49 % / 0.980 (1.908 / 1.51 % / 0.401): 20 and 40 now agree to 0.009 in
-//! W*(8) (0.025). The Newtonian drop has no conformation and is unchanged. What still lowers
-//! det A after impact is the ALE term (a central difference of Psi, which can undershoot
-//! tr Psi where the stretch varies steeply). **UCM at De = 10 still breaks down** at W/dr = 40
-//! (t* = 1.03, a non-finite conformation after the velocity ran away, 6.8e3 m/s; the full
-//! gradient: t* = 1.31; at half the step t* = 1.16), while Oldroyd-B at beta = 0.05 and De = 10
-//! runs to t* = 8 (W*(8) 2.348, min det A 0.914): the breakdown belongs to beta = 0, where all
-//! of the viscous stress but EVSS's 0.05 eta0 goes through the explicit polymer stress.
+//! gradient lowered the smallest det A from above 0.9999999 to 0.99998. Measured on King &
+//! Lind's drop (UCM, De = 10, W/dr = 40): in free flight (a rigid translation) min det A is
+//! 1.000, against 0.766 with the full gradient.
+//!
+//! **Bounded ALE term with a free surface.** With the traceless gradient, the one thing left
+//! that could lower det A is the Lagrangian ALE term `dt u_ps . grad Psi` of (31). As a central
+//! difference it is not bounded: where Psi varies steeply (the wall row at the moving contact
+//! line, where the no-slip shear stretches the polymer) it overshoots, and the shifted value
+//! leaves the range of its neighbours. Measured on the UCM drop at De = 10 (W/dr = 40, default
+//! step, a per-step trace of the worst particles): from impact (t* = 0.47) tr A in the contact
+//! line's wall row grew to 1.5e3 by t* = 1.0 and 1.4e4 by t* = 1.035, det A fell to 0.4, the
+//! row's speed ran away (20 m/s at t* = 1.042) and the conformation became non-finite at
+//! t* = 1.05. So with a free surface the Lagrangian ALE term is one-sided and convex
+//! (`Isph::ale_one_sided`): the shifted Psi_i is `Psi_i + c sum_j w_ij (Psi_j - Psi_i)` over the
+//! neighbours ahead of the shift (`w_ij = V grad W_ij . u_s > 0`), `c` chosen so that a field
+//! linear along the shift moves exactly as the central form moves it, and capped so that the
+//! weights of the neighbours sum to at most 1. The new Psi_i is then a convex combination of
+//! Psi_i and its neighbours': tr Psi = ln det A stays within their range, so with relaxation
+//! (which raises det A towards 1 for UCM and Oldroyd-B) min det A stays >= 1 for good; the
+//! shift is a fraction of dx per step, so the one-sided error is small. The Eulerian frame's
+//! ALE term is the whole advection and keeps its three stages (above); the closed channel's
+//! Lagrangian frame keeps the central single stage (not measured there). Measured on the drop
+//! (eta0 = 5 Pa s, default step, `viscosph run`, threads 1, outputs every 0.2 t*; W*(8) /
+//! largest |volume_error| / min det A over t* <= 8, the central difference in brackets):
+//! UCM, De = 10: W/dr = 20 3.851 / 4.56 % / 1.000 (breakdown at t* = 2.8), W/dr = 40
+//! 3.605 / 2.46 % / 1.000 (breakdown at t* = 1.03); both spread to W* = 4.70 at t* = 2.8 and
+//! retract, and at W/dr = 20 the sheet, three particles thick, tears from t* = 4 (the volume
+//! error is that). UCM, De = 1: W/dr = 20 2.024 / 2.50 % / 1.000 (1.995 / 2.02 % / 0.653);
+//! W/dr = 40 1.918 / 1.36 % / 1.000 (1.906 / 1.65 % / 0.098). Oldroyd-B, De = 1,
+//! beta = 0.1: W/dr = 20 1.879 / 2.91 % / 1.000 (1.877 / 2.49 % / 1.000); W/dr = 40
+//! 1.862 / 1.35 % / 1.000 (1.868 / 1.49 % / 0.980). Tried first: clipping the central
+//! difference's result into the neighbours' range component by component (UCM De = 10,
+//! W/dr = 40: breakdown at t* = 1.88, tr A 1.7e3 in the contact line's row at t* = 1.66; at
+//! half the step t* = 6.97, det A down to 0.27), the closed channel's stretched-polymer wave
+//! limit (`step_size`: it never bound, c dt / h <= 0.7), and EVSS's explicit part on the
+//! compact operator, i.e. `-alpha_V eta0 lap u^n` by Morris' Laplacian instead of
+//! `alpha_V eta0 2D` in Phi (both-sides diffusion: it only filters the explicit forces, and
+//! the drop broke at impact, t* = 0.56).
 
 use super::{Context, Isph, MIN_TASK};
 use crate::config::ConformationMethod;
@@ -118,8 +142,9 @@ where
             };
             // Eulerian frame: the ALE term is the whole advection, a central difference that
             // forward Euler amplifies (module documentation); Shu & Osher's three-stage SSP
-            // Runge-Kutta is stable for it. The Lagrangian shift is a small displacement and
-            // keeps the single stage of eq. (31).
+            // Runge-Kutta is stable for it. The Lagrangian shift is a small displacement: with
+            // a free surface the bounded one-sided form (module documentation, "Bounded ALE
+            // term"), in the closed channel the single stage of eq. (31).
             let advected: Vec<Tensor<N>> = if !ctx.lagrangian {
                 let d0 = ale(&psi);
                 let p1: Vec<Tensor<N>> = psi.iter().zip(&d0).map(|(p, d)| p + d).collect();
@@ -134,6 +159,8 @@ where
                     .zip(p2.iter().zip(&d2))
                     .map(|(p, (q, d))| p * (1.0 / 3.0) + (q + d) * (2.0 / 3.0))
                     .collect()
+            } else if self.free_surface {
+                self.ale_one_sided(&psi, u_ps, ctx)
             } else {
                 psi.iter().zip(ale(&psi)).map(|(p, d)| p + d).collect()
             };
@@ -193,6 +220,54 @@ where
             .collect();
         let virt = self.virtual_stresses(ctx, &st.walls, &st.fluid, &phi);
         (phi, virt)
+    }
+}
+
+impl<R: Rheology, const N: usize> Isph<R, N>
+where
+    Const<N>: Dim,
+{
+    /// The Lagrangian ALE term of eq. (31) with a free surface, bounded (module documentation,
+    /// "Bounded ALE term"): `f_i + c sum_j w_ij (f_j - f_i)` over the neighbours ahead of the
+    /// shift, `w_ij = V grad W_ij . u_s > 0` (`u_s = L_i^T u_ps`, as in the central form),
+    /// with `c = dt |u_s|^2 / sum_j w_ij (x_j - x_i) . u_s` so that a field linear along the
+    /// shift moves by `dt u_s . grad f` exactly, capped at `c sum_j w_ij <= 1`: the new value
+    /// is a convex combination of `f_i` and its neighbours'. Virtual particles carry their
+    /// parent's `f`. No neighbour ahead (a surface particle shifted outwards): `f_i`.
+    fn ale_one_sided(
+        &self,
+        f: &[Tensor<N>],
+        u_ps: &[Vector<N>],
+        ctx: &Context<N>,
+    ) -> Vec<Tensor<N>> {
+        let (nl, l, pairs, x) = (&ctx.nl, &ctx.l, &self.pairs, &self.all_x);
+        let (dt, vol, dom) = (ctx.dt, ctx.vol, &self.p.domain);
+        (0..ctx.n)
+            .into_par_iter()
+            .with_min_len(MIN_TASK)
+            .map(|i| {
+                let off = nl.offset(i);
+                let us = l[i].transpose() * u_ps[i];
+                let us2 = us.norm_squared();
+                if us2 == 0.0 {
+                    return f[i];
+                }
+                let xi = ctx.xs[i];
+                let (mut num, mut wsum, mut den) = (Tensor::<N>::zeros(), 0.0, 0.0);
+                for (kk, &j) in nl.of(i).iter().enumerate() {
+                    let w = pairs.grad[off + kk].dot(&us) * vol;
+                    if w > 0.0 {
+                        num += (f[ctx.source(j as usize)] - f[i]) * w;
+                        wsum += w;
+                        den += w * dom.delta(&x[j as usize], &xi).dot(&us);
+                    }
+                }
+                if den <= 0.0 {
+                    return f[i];
+                }
+                f[i] + num * (dt * us2 / den).min(1.0 / wsum)
+            })
+            .collect()
     }
 }
 
