@@ -81,12 +81,13 @@ pub fn bench_drop(out: &Path, quick: bool) -> Result<String, Box<dyn std::error:
     let rows = drop_convergence(&fang_cases(), ppds, t_star_end)?;
     // CSV, Markdown table, PNG.
     let mut csv = String::from("case,particles_per_diameter,particles,steps,wall_seconds,particle_steps_per_second,max_w_star_difference_from_finest,wall_reflections,error\n");
+    let resolutions: Vec<String> = ppds.iter().map(|p| p.to_string()).collect();
     let mut md = format!(
         "WCSPH (Fang et al. 2006) on Fang's Newtonian and Oldroyd-B drops (D = 20 mm, V = 1 m/s) \
          at {} particles per diameter to t* = {t_star_end}: steps, cost, the largest difference of \
          W*(t*) to the finest run, how often a particle was put back above the plate, and \
          breakdowns.\n\n",
-        ppds.iter().map(|p| p.to_string()).collect::<Vec<_>>().join("/")
+        resolutions.join("/")
     );
     md.push_str("| case | particles/D | particles | steps | wall time [s] | particle-steps/s | max \\|ΔW*\\| vs finest | put back above the plate | breakdown |\n|---|---|---|---|---|---|---|---|---|\n");
     for r in &rows {
