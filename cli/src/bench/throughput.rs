@@ -80,15 +80,14 @@ pub fn measure_throughput(
 }
 
 pub fn bench_throughput(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::Error>> {
-    // Sizes outer, ascending, so that the process's peak RSS after a run is that run's own peak
-    // (less the RSS before the first run: the binary and the allocator's base). 10^6 runs the
+    // Each run's peak RSS is its own: the high-water mark is reset before it ([`reset_peak_rss`])
+    // and the RSS then (the binary and what the allocator keeps) is subtracted. 10^6 runs the
     // Newtonian drop only, for a few steps (cost per particle-step, not a trajectory).
     let sizes: &[f64] = if quick {
         &[300.0, 1000.0]
     } else {
         &[1e3, 1e4, 1e5, 1e6]
     };
-    let rss0 = peak_rss();
     let mut md = String::from(
         "| case | particles | threads | particle-steps/s (wall) | per core | CPU ns per \
          particle-step | peak RSS per particle [bytes] |\n|---|---|---|---|---|---|---|\n",
@@ -111,9 +110,10 @@ pub fn bench_throughput(out: &Path, quick: bool) -> Result<String, Box<dyn std::
             let steps = ((2e6 / n) as u64).clamp(6, 400) / if quick { 4 } else { 1 };
             for threads in [1usize, 2] {
                 eprintln!("bench throughput: {name}, {n:.0} particles, {threads} thread(s) ...");
+                let base = reset_peak_rss();
                 let t = measure_throughput(&cfg, steps.max(4), threads)?;
                 let np = t.particles;
-                let rss = match (rss0, peak_rss()) {
+                let rss = match (base, peak_rss()) {
                     (Some(a), Some(b)) => b.saturating_sub(a) as f64 / np as f64,
                     _ => f64::NAN,
                 };
@@ -175,10 +175,20 @@ pub fn bench_throughput(out: &Path, quick: bool) -> Result<String, Box<dyn std::
     Ok(md)
 }
 
-/// Peak RSS from now on: resets the kernel's high-water mark (Linux: `5` to
-/// `/proc/self/clear_refs`) and returns the resident set size now \[bytes\], the base to
-/// subtract from [`peak_rss`] after the run. `None` where the platform cannot.
+/// Peak RSS from now on: hands the allocator's free memory back to the kernel, resets the
+/// kernel's high-water mark (Linux: `5` to `/proc/self/clear_refs`) and returns the resident set
+/// size now \[bytes\], the base to subtract from [`peak_rss`] after the run. `None` where the
+/// platform cannot.
+///
+/// Without the trim, glibc keeps the heap an earlier, larger run freed: the next run reuses
+/// those pages, which the base already counts, and its growth over the base reads near 0 (the
+/// second thread count of a size read exactly 0 bytes per particle).
 fn reset_peak_rss() -> Option<u64> {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    // SAFETY: `malloc_trim` only returns free heap pages to the kernel; no live allocation moves.
+    unsafe {
+        libc::malloc_trim(0);
+    }
     std::fs::write("/proc/self/clear_refs", "5").ok()?;
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
     let line = status.lines().find(|l| l.starts_with("VmRSS:"))?;
