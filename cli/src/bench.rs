@@ -79,6 +79,9 @@ pub enum BenchKind {
         #[arg(long, default_value = "docs")]
         docs: PathBuf,
     },
+    /// One throughput case's peak memory, in a process of its own (`bench throughput` runs it).
+    #[command(hide = true)]
+    MemoryProbe(throughput::ProbeArgs),
 }
 
 pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
@@ -97,7 +100,7 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
         BenchKind::Channel(_) => Some("channel"),
         BenchKind::Cylinders(_) => Some("cylinders"),
         BenchKind::Isph => Some("isph"),
-        BenchKind::Report { .. } | BenchKind::Replot => None,
+        BenchKind::Report { .. } | BenchKind::Replot | BenchKind::MemoryProbe(_) => None,
     };
     let report = match args.what {
         BenchKind::Drop => drop::bench_drop(&args.out, args.quick)?,
@@ -112,6 +115,7 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
         BenchKind::Isph => isph::bench_isph(&args.out, args.quick)?,
         BenchKind::Report { ref docs } => report::bench_report(&args.out, docs)?,
         BenchKind::Replot => accuracy::bench_replot(&args.out)?,
+        BenchKind::MemoryProbe(ref a) => throughput::memory_probe(a)?,
     };
     if let Some(stem) = stem {
         std::fs::write(args.out.join(format!("{stem}.commit")), commit + "\n")?;

@@ -16,14 +16,6 @@ pub fn ppd_for(n: f64) -> i64 {
     (4.0 * n / std::f64::consts::PI).sqrt().round() as i64
 }
 
-/// Peak resident set size of this process so far \[bytes\] (Linux `VmHWM`; `None` elsewhere).
-pub fn peak_rss() -> Option<u64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
-    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kb * 1024)
-}
-
 /// CPU time this process has used so far, all threads \[s\] ([`viscosph::profile`]'s clock;
 /// `None` where the platform has none). On a machine shared with other work the wall clock
 /// counts the time others hold the cores; CPU time does not.
@@ -80,9 +72,8 @@ pub fn measure_throughput(
 }
 
 pub fn bench_throughput(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::Error>> {
-    // Each run's peak RSS is its own: the high-water mark is reset before it ([`reset_peak_rss`])
-    // and the RSS then (the binary and what the allocator keeps) is subtracted. 10^6 runs the
-    // Newtonian drop only, for a few steps (cost per particle-step, not a trajectory).
+    // Each case's peak memory comes from a process of its own ([`memory_per_particle`]). 10^6 runs
+    // the Newtonian drop only, for a few steps (cost per particle-step, not a trajectory).
     let sizes: &[f64] = if quick {
         &[300.0, 1000.0]
     } else {
@@ -97,26 +88,18 @@ pub fn bench_throughput(out: &Path, quick: bool) -> Result<String, Box<dyn std::
     );
     let mut by: Vec<(String, usize, usize, f64, f64)> = Vec::new();
     for &n in sizes {
-        for (name, base) in fang_cases() {
+        for (name, _) in fang_cases() {
             if n > 2e5 && name != "newtonian" {
                 continue;
             }
-            let mut cfg = base.clone();
             let ppd = ppd_for(n);
-            cfg.set("particles_per_diameter", Value::Integer(ppd))?;
-            // Start one spacing above the plate, moving down: walls are in play from the first step.
-            let h = 0.5 * cfg.drop.drop_diameter + 1.5 * cfg.dx();
-            cfg.set("initial_drop_height", Value::Real(h))?;
+            let cfg = throughput_case(name, 2, ppd)?;
             let steps = ((2e6 / n) as u64).clamp(6, 400) / if quick { 4 } else { 1 };
             for threads in [1usize, 2] {
                 eprintln!("bench throughput: {name}, {n:.0} particles, {threads} thread(s) ...");
-                let base = reset_peak_rss();
                 let t = measure_throughput(&cfg, steps.max(4), threads)?;
                 let np = t.particles;
-                let rss = match (base, peak_rss()) {
-                    (Some(a), Some(b)) => b.saturating_sub(a) as f64 / np as f64,
-                    _ => f64::NAN,
-                };
+                let rss = memory_per_particle(name, 2, ppd, threads);
                 by.push((name.to_string(), np, threads, t.per_second, t.cpu_ns));
                 writeln!(
                     csv,
@@ -175,32 +158,105 @@ pub fn bench_throughput(out: &Path, quick: bool) -> Result<String, Box<dyn std::
     Ok(md)
 }
 
-/// Peak RSS from now on: hands the allocator's free memory back to the kernel, resets the
-/// kernel's high-water mark (Linux: `5` to `/proc/self/clear_refs`) and returns the resident set
-/// size now \[bytes\], the base to subtract from [`peak_rss`] after the run. `None` where the
-/// platform cannot.
-///
-/// Without the trim, glibc keeps the heap an earlier, larger run freed: the next run reuses
-/// those pages, which the base already counts, and its growth over the base reads near 0 (the
-/// second thread count of a size read exactly 0 bytes per particle).
-fn reset_peak_rss() -> Option<u64> {
-    #[cfg(all(target_os = "linux", target_env = "gnu"))]
-    // SAFETY: `malloc_trim` only returns free heap pages to the kernel; no live allocation moves.
-    unsafe {
-        libc::malloc_trim(0);
+/// Arguments of the hidden `viscosph bench memory-probe`: one throughput case, run in a process
+/// of its own so that its peak memory is its own.
+#[derive(clap::Args, Debug, Clone)]
+pub struct ProbeArgs {
+    /// `newtonian` or `oldroyd_b` (Fang's drops, [`fang_cases`]).
+    #[arg(long)]
+    pub case: String,
+    /// 2 or 3.
+    #[arg(long)]
+    pub dimension: i64,
+    /// Particles per diameter.
+    #[arg(long)]
+    pub ppd: i64,
+    /// Worker threads.
+    #[arg(long)]
+    pub threads: usize,
+}
+
+/// A throughput case: Fang's drop `name` in `dimension` at `ppd` particles per diameter, set
+/// down one and a half spacings above the plate, moving down, so walls take part from the first step.
+fn throughput_case(
+    name: &str,
+    dimension: i64,
+    ppd: i64,
+) -> Result<SceneConfig, Box<dyn std::error::Error>> {
+    let mut cfg = fang_cases()
+        .into_iter()
+        .find(|(n, _)| *n == name)
+        .ok_or_else(|| format!("no throughput case {name:?} (newtonian, oldroyd_b)"))?
+        .1;
+    if dimension != 2 {
+        cfg.set("dimension", Value::Integer(dimension))?;
     }
-    std::fs::write("/proc/self/clear_refs", "5").ok()?;
+    cfg.set("particles_per_diameter", Value::Integer(ppd))?;
+    let h = 0.5 * cfg.drop.drop_diameter + 1.5 * cfg.dx();
+    cfg.set("initial_drop_height", Value::Real(h))?;
+    Ok(cfg)
+}
+
+/// The probe itself: the resident set size before the simulation exists, then two steps (the
+/// neighbour lists, pair caches and the solver's work arrays are all allocated by the end of the
+/// first), then the process's peak; prints `particles peak_bytes_over_base`.
+pub fn memory_probe(a: &ProbeArgs) -> Result<String, Box<dyn std::error::Error>> {
+    let mut cfg = throughput_case(&a.case, a.dimension, a.ppd)?;
+    cfg.numerics.threads = a.threads as i64;
+    let base = resident_bytes("VmRSS:").ok_or("no /proc/self/status here")?;
+    let r: Result<usize, viscosph::simulation::SimError> = (|| {
+        let mut sim = Simulation::new(cfg)?;
+        sim.advance_to(1e-12)?;
+        let dt = sim.last_dt();
+        sim.advance_to(sim.time() + 1.999 * dt)?;
+        Ok(sim.particle_count())
+    })();
+    let np = r?;
+    let peak = resident_bytes("VmHWM:").ok_or("no /proc/self/status here")?;
+    Ok(format!("{np} {}", peak.saturating_sub(base)))
+}
+
+/// A size line of `/proc/self/status` (`VmRSS:`, `VmHWM:`) \[bytes\]; `None` off Linux.
+fn resident_bytes(key: &str) -> Option<u64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmRSS:"))?;
+    let line = status.lines().find(|l| l.starts_with(key))?;
     let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
     Some(kb * 1024)
+}
+
+/// Peak memory per fluid particle of one case \[bytes\]: [`memory_probe`] in a child process of
+/// this binary, since a process's high-water mark cannot be taken back: in one process the
+/// allocator keeps the heap an earlier, larger run freed, the next run reuses it and reads near
+/// 0. NaN where the probe cannot run (not Linux).
+fn memory_per_particle(name: &str, dimension: i64, ppd: i64, threads: usize) -> f64 {
+    let probe = || -> Option<f64> {
+        let out = std::process::Command::new(std::env::current_exe().ok()?)
+            .args(["bench", "--out"])
+            .arg(std::env::temp_dir())
+            .args(["memory-probe", "--case", name])
+            .args([
+                "--dimension",
+                &dimension.to_string(),
+                "--ppd",
+                &ppd.to_string(),
+            ])
+            .args(["--threads", &threads.to_string()])
+            .output()
+            .ok()?;
+        let text = String::from_utf8(out.stdout).ok()?;
+        let mut it = text.split_whitespace();
+        let np: f64 = it.next()?.parse().ok()?;
+        let bytes: f64 = it.next()?.parse().ok()?;
+        (out.status.success() && np > 0.0).then_some(bytes / np)
+    };
+    probe().unwrap_or(f64::NAN)
 }
 
 /// The same Fang drops as a sphere (`dimension = 3`, dummy walls: three layers under the plate
 /// where the fluid can reach it) at about the same fluid particle counts as the 2D rows (10^3 and 10^4;
 /// 10^5 is not run: 3D at that size is `viscosph run`'s), 1 and 2 threads: CPU time per fluid
 /// particle-step against the 2D row of the same size, and the peak RSS per fluid particle
-/// (measured from a reset of the high-water mark, [`reset_peak_rss`]).
+/// ([`memory_per_particle`]).
 fn three_dimensions(
     md: &mut String,
     csv: &mut String,
@@ -215,23 +271,15 @@ fn three_dimensions(
          3D [bytes] |\n|---|---|---|---|---|---|---|"
     )?;
     for &n in sizes.iter().filter(|&&n| n < 2e4) {
-        for (name, base) in fang_cases() {
-            let mut cfg = base.clone();
+        for (name, _) in fang_cases() {
             let ppd = (6.0 * n / std::f64::consts::PI).cbrt().round() as i64;
-            cfg.set("dimension", Value::Integer(3))?;
-            cfg.set("particles_per_diameter", Value::Integer(ppd))?;
-            let h = 0.5 * cfg.drop.drop_diameter + 1.5 * cfg.dx();
-            cfg.set("initial_drop_height", Value::Real(h))?;
+            let cfg = throughput_case(name, 3, ppd)?;
             let steps = ((2e5 / n) as u64).clamp(6, 100) / if quick { 4 } else { 1 };
             for threads in [1usize, 2] {
                 eprintln!("bench throughput: 3D {name}, {n:.0} particles, {threads} thread(s) ...");
-                let base = reset_peak_rss();
                 let t = measure_throughput(&cfg, steps.max(4), threads)?;
                 let np = t.particles;
-                let rss = match (base, peak_rss()) {
-                    (Some(a), Some(b)) => b.saturating_sub(a) as f64 / np as f64,
-                    _ => f64::NAN,
-                };
+                let rss = memory_per_particle(name, 3, ppd, threads);
                 let d2 = by.iter().find(|(n2, np2, th2, _, _)| {
                     n2 == name && *th2 == threads && (*np2 as f64 / n - 1.0).abs() < 0.1
                 });
