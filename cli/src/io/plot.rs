@@ -228,7 +228,31 @@ fn series_color(panel: &Panel, k: usize, keys: Option<&[String]>) -> RGBAColor {
             .filter(|s| !is_reference(s))
             .count(),
     };
-    Palette99::pick(idx).to_rgba()
+    palette(idx)
+}
+
+/// Tableau's ten category colours (matplotlib's default cycle, "tab10"): dark enough on white
+/// and apart from each other, which plotters' `Palette99` is not for nine series (its third and
+/// ninth entries, yellow and lime, read as one pale line); `Palette99` from the eleventh series.
+const TAB10: [RGBColor; 10] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(214, 39, 40),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
+];
+
+/// Colour of the idx-th labelled series.
+fn palette(idx: usize) -> RGBAColor {
+    match TAB10.get(idx) {
+        Some(c) => c.to_rgba(),
+        None => Palette99::pick(idx).to_rgba(),
+    }
 }
 
 /// Width in pixels of a legend beside the chart.
