@@ -527,9 +527,9 @@ pub fn run(
         None => sim
             .scene()
             .summary(sim.effective_config(), sim.state(), &series, predictions),
-        Some(_) => sim
+        Some(st) => sim
             .scene()
-            .summary_3d(sim.effective_config(), &series, predictions),
+            .summary_3d(sim.effective_config(), st, &series, predictions),
     };
     let result = RunResult {
         series,

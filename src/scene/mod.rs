@@ -243,10 +243,11 @@ pub trait Scene: Send + Sync {
         Vec::new()
     }
 
-    /// [`Scene::summary`] of a 3D run, from its record of outputs.
+    /// [`Scene::summary`] of a 3D run: the state at its end and its record of outputs.
     fn summary_3d(
         &self,
         _cfg: &SceneConfig,
+        _st: &State<3>,
         _series: &[(f64, Outputs)],
         _predictions: &dyn Predictions,
     ) -> Vec<String> {

@@ -362,6 +362,7 @@ impl Scene for Jet {
     fn summary_3d(
         &self,
         cfg: &SceneConfig,
+        _st: &State<3>,
         series: &[(f64, Outputs)],
         predictions: &dyn Predictions,
     ) -> Vec<String> {
