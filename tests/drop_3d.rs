@@ -60,7 +60,11 @@ fn a_normal_impact_on_a_level_plate_spreads_equally_along_and_across() {
             sh.wall_force_normal_total
         );
         assert_eq!(sim.dimension(), 3);
-        spread_round(&sh, 1.3);
+        // Measured: W* = 1.265 (WCSPH) and 1.315 (PDRI), H = 0.720 and 0.676 D. With the dummy
+        // particles' no-slip velocity in the continuity equation (instead of the wall's,
+        // `Boundary::continuity_at_wall_velocity`) their false compression of the first row held
+        // the drop half a spacing higher and wider: W* 1.312 and 1.425, H 0.767 and 0.694 D.
+        spread_round(&sh, 1.2);
         // Per-depth outputs mean nothing in 3D: they hold 0 and the totals carry the values.
         assert_eq!(sh.wall_force_normal, 0.0);
         assert_eq!(sh.kinetic_energy, 0.0);
@@ -459,8 +463,8 @@ fn a_3d_slab_spreads_as_the_2d_drop() {
             assert!(w3 > 1.3, "{scheme} {rheology}: the slab spread, W* = {w3}");
             // The flow stays plane: the layers move alike.
             assert!(cross < 1e-9, "{scheme} {rheology}: |v_y| {cross} m/s");
-            // Measured at 10 per diameter: the slab 2.7 % (WCSPH Newtonian) to 7.8 % (WCSPH
-            // Oldroyd-B) wider than the 2D drop with dummy walls, 2.0-7.6 % than with the
+            // Measured at 10 per diameter: the slab 3.1 % (PDRI Newtonian) to 7.3 % (WCSPH
+            // Oldroyd-B) wider than the 2D drop with dummy walls, 0.1-7.3 % than with the
             // scheme's own walls (the 3D kernel on the cubic lattice is another
             // discretisation of the same flow; 2-8 % at 20 per diameter, the book's table).
             assert!(

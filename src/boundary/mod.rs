@@ -115,6 +115,19 @@ pub trait Boundary<const N: usize = 2>: Send + Sync {
     /// Velocities of this wall's virtual particles (in the order of [`Boundary::place`]).
     fn fill_velocities(&self, wall: &Wall<N>, fluid: &Fluid<N>, out: &mut [Vector<N>]);
 
+    /// Whether the continuity equation of the weakly compressible schemes takes the wall's own
+    /// velocity ([`wall::Wall::wall_velocity`]) for this wall's virtual particles instead of
+    /// the velocities of [`Boundary::fill_velocities`]. Adami, Hu & Adams 2012 (section 2.3)
+    /// extrapolate the no-slip velocity `2 u_wall - Shepard(u)` (eqs. 22-23) for the viscous
+    /// forces only; the density rate sees the wall as it moves. With the extrapolated velocity
+    /// in the continuity equation, a flow that diverges or converges along the wall reads its
+    /// own tangential velocity differences, mirrored, as a compression of the first fluid rows.
+    /// False (the default) for Fang's and Ren's walls, whose papers sum the continuity over
+    /// their virtual particles' filled velocities.
+    fn continuity_at_wall_velocity(&self) -> bool {
+        false
+    }
+
     /// Stresses of this wall's virtual particles from the fluid's total stresses `sigma` and
     /// elastic stresses `tau_p` (empty for inelastic models).
     fn fill_stresses(
