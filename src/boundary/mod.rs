@@ -51,6 +51,25 @@ pub enum Model {
     Mirror,
 }
 
+impl Model {
+    /// Distance from a straight wall's line to the first row of a fluid lattice that fills a
+    /// walled domain, in particle spacings: the rows the model's virtual particles leave to the
+    /// fluid. One with wall particles on the wall line (Fang's and Ren's: the half cell next to
+    /// the line is the wall particles'); one half with dummy particles (their rows at -(k + 1/2)
+    /// dx, Adami, Hu & Adams 2012) and with mirrors (the first mirror row dx below the first
+    /// fluid row). The lattice then runs on into the virtual rows and the fluid fills the whole
+    /// region the walls leave it: N m / rho0 is its area. A lattice one spacing from a dummy
+    /// wall leaves a strip half a spacing wide along it, which a weakly compressible fluid
+    /// fills by expanding; in a closed cell that is a tension of rho0 c^2 times the strip's
+    /// share of the area (the cylinder cell, `scene::cylinder_array`, "Lattice").
+    pub fn lattice_offset(self) -> f64 {
+        match self {
+            Model::Image | Model::Ghost => 1.0,
+            Model::Dummy | Model::Mirror => 0.5,
+        }
+    }
+}
+
 /// The model `choice` means for `wall` under a scheme whose own (paper's) straight-wall model
 /// is `paper` (the incompressible scheme's is [`Model::Mirror`]): `auto` is `paper` on a
 /// straight wall and dummy or mirror particles on a curved one. A model the scheme cannot take
