@@ -14,7 +14,15 @@
 //!
 //! The values:
 //! * velocity (eqs. 22-23): `u_w = 2 u_wall - sum_f u_f W_wf / sum_f W_wf`, so that the velocity
-//!   interpolated at the wall is the wall's (no slip);
+//!   interpolated at the wall is the wall's (no slip). It enters the velocity gradient, hence
+//!   the viscous and polymer stresses; the continuity equation takes the wall's own velocity
+//!   `u_wall` ([`Boundary::continuity_at_wall_velocity`]), as in Adami et al. 2012, where the
+//!   extrapolation serves the viscous forces only. The extrapolated velocity mirrors the
+//!   tangential velocity of the fluid next to the wall: where that varies along the wall (a
+//!   drop or a jet's heap spreading from the axis), its divergence read across the wall is a
+//!   false compression rate of the first fluid rows (+0.5 rho G in the first row of the
+//!   stagnation flow u = (G x, -G y) on a plate at y = 0, tests/walls.rs), which the density
+//!   accumulates over a long run;
 //! * stress (eq. 27, written for the total stress sigma = -p I + tau): `sigma_w = sum_f sigma_f
 //!   W_wf / sum_f W_wf - ((g - a_wall) . sum_f rho_f r_wf W_wf / sum_f W_wf) I`, r_wf = x_w -
 //!   x_f: the fluid's stress carried to the wall particle plus the hydrostatic pressure
@@ -379,5 +387,11 @@ where
 
     fn positions(&self, wall: &Wall<N>) -> Vec<Vector<N>> {
         self.kept_layout(wall)
+    }
+
+    /// Adami et al. 2012 section 2.3: the extrapolated velocity is the viscous forces'; the
+    /// continuity equation takes the wall's velocity (module documentation).
+    fn continuity_at_wall_velocity(&self) -> bool {
+        true
     }
 }

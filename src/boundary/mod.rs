@@ -51,6 +51,25 @@ pub enum Model {
     Mirror,
 }
 
+impl Model {
+    /// Distance from a straight wall's line to the first row of a fluid lattice that fills a
+    /// walled domain, in particle spacings: the rows the model's virtual particles leave to the
+    /// fluid. One with wall particles on the wall line (Fang's and Ren's: the half cell next to
+    /// the line is the wall particles'); one half with dummy particles (their rows at -(k + 1/2)
+    /// dx, Adami, Hu & Adams 2012) and with mirrors (the first mirror row dx below the first
+    /// fluid row). The lattice then runs on into the virtual rows and the fluid fills the whole
+    /// region the walls leave it: N m / rho0 is its area. A lattice one spacing from a dummy
+    /// wall leaves a strip half a spacing wide along it, which a weakly compressible fluid
+    /// fills by expanding; in a closed cell that is a tension of rho0 c^2 times the strip's
+    /// share of the area (the cylinder cell, `scene::cylinder_array`, "Lattice").
+    pub fn lattice_offset(self) -> f64 {
+        match self {
+            Model::Image | Model::Ghost => 1.0,
+            Model::Dummy | Model::Mirror => 0.5,
+        }
+    }
+}
+
 /// The model `choice` means for `wall` under a scheme whose own (paper's) straight-wall model
 /// is `paper` (the incompressible scheme's is [`Model::Mirror`]): `auto` is `paper` on a
 /// straight wall and dummy or mirror particles on a curved one. A model the scheme cannot take
@@ -114,6 +133,19 @@ pub trait Boundary<const N: usize = 2>: Send + Sync {
 
     /// Velocities of this wall's virtual particles (in the order of [`Boundary::place`]).
     fn fill_velocities(&self, wall: &Wall<N>, fluid: &Fluid<N>, out: &mut [Vector<N>]);
+
+    /// Whether the continuity equation of the weakly compressible schemes takes the wall's own
+    /// velocity ([`wall::Wall::wall_velocity`]) for this wall's virtual particles instead of
+    /// the velocities of [`Boundary::fill_velocities`]. Adami, Hu & Adams 2012 (section 2.3)
+    /// extrapolate the no-slip velocity `2 u_wall - Shepard(u)` (eqs. 22-23) for the viscous
+    /// forces only; the density rate sees the wall as it moves. With the extrapolated velocity
+    /// in the continuity equation, a flow that diverges or converges along the wall reads its
+    /// own tangential velocity differences, mirrored, as a compression of the first fluid rows.
+    /// False (the default) for Fang's and Ren's walls, whose papers sum the continuity over
+    /// their virtual particles' filled velocities.
+    fn continuity_at_wall_velocity(&self) -> bool {
+        false
+    }
 
     /// Stresses of this wall's virtual particles from the fluid's total stresses `sigma` and
     /// elastic stresses `tau_p` (empty for inelastic models).

@@ -32,8 +32,24 @@ impl<const N: usize> Kinematics<N> {
     /// volume `vol_j` = m_j / rho_j.
     #[inline]
     pub fn add_pair(&mut self, vij: &Vector<N>, grad: &Vector<N>, vol_j: f64) {
+        self.add_pair_split(vij, vij, grad, vol_j);
+    }
+
+    /// [`Kinematics::add_pair`] with its own relative velocity `cij` in the continuity rate: a
+    /// wall's virtual particle j carries a no-slip velocity for the velocity gradient and the
+    /// wall's own velocity for the density rate (see
+    /// [`crate::boundary::Boundary::continuity_at_wall_velocity`]). With `cij = vij` it is
+    /// [`Kinematics::add_pair`], operation for operation.
+    #[inline]
+    pub fn add_pair_split(
+        &mut self,
+        vij: &Vector<N>,
+        cij: &Vector<N>,
+        grad: &Vector<N>,
+        vol_j: f64,
+    ) {
         self.kappa -= (vij * grad.transpose()) * vol_j;
-        self.continuity += vij.dot(grad);
+        self.continuity += cij.dot(grad);
     }
 }
 

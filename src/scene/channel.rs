@@ -180,13 +180,19 @@ impl Scene for Channel {
             mass: cfg.fluid.density * dx * dx,
             ..Default::default()
         };
-        // Wall particles (wcsph, pdri) sit on the wall lines, so the fluid rows are at j dx,
-        // j = 1 .. n-1. Mirrors (isph) reflect the fluid itself: rows at (j + 1/2) dx,
-        // j = 0 .. n-1, put the first mirror row dx below the first fluid row, as in the bulk.
-        // (Rows at j dx left a gap of 2 dx at each wall: measured, the Newtonian Lagrangian
-        // centre line settled 10 % high at 30 across.) The scheme says which
-        // (`SchemeKind::wall_lattice_offset`).
-        let offset = cfg.scheme.wall_lattice_offset();
+        let h = cfg.channel.channel_width;
+        let bottom = Plate::spanning(Vec2::zeros(), Vec2::new(1.0, 0.0), dx, 0, m - 1);
+        // The upper wall faces down: tangent -x, normal -y; its columns at s = -k dx sit at
+        // x = k dx, k = 0 .. m-1.
+        let top = Plate::spanning(Vec2::new(0.0, h), Vec2::new(-1.0, 0.0), dx, 1 - m, 0);
+        // Wall particles (Fang's, Ren's: wcsph, pdri by default) sit on the wall lines, so the
+        // fluid rows are at j dx, j = 1 .. n-1. Mirrors (isph) reflect the fluid itself and
+        // dummy particles lie at -(k + 1/2) dx: rows at (j + 1/2) dx, j = 0 .. n-1, put the
+        // first virtual row dx below the first fluid row, as in the bulk. (Rows at j dx left a
+        // gap of 2 dx at each mirror wall: measured, the Newtonian Lagrangian centre line
+        // settled 10 % high at 30 across.) The wall model says which
+        // (`boundary::Model::lattice_offset`).
+        let offset = cfg.wall_model(&Wall::from(bottom.clone())).lattice_offset();
         let rows = (n as f64 + 1.0 - 2.0 * offset).round() as i64;
         for j in 0..rows {
             let y = (j as f64 + offset) * dx;
@@ -200,11 +206,6 @@ impl Scene for Channel {
         if let Some(a0) = rest {
             fluid.conf = vec![a0; count];
         }
-        let h = cfg.channel.channel_width;
-        let bottom = Plate::spanning(Vec2::zeros(), Vec2::new(1.0, 0.0), dx, 0, m - 1);
-        // The upper wall faces down: tangent -x, normal -y; its columns at s = -k dx sit at
-        // x = k dx, k = 0 .. m-1.
-        let top = Plate::spanning(Vec2::new(0.0, h), Vec2::new(-1.0, 0.0), dx, 1 - m, 0);
         (fluid, vec![bottom.into(), top.into()])
     }
 

@@ -291,6 +291,17 @@ impl SceneConfig {
         }
     }
 
+    /// The wall model `wall_boundary` means for `wall` under this configuration's scheme
+    /// ([`crate::boundary::resolve`]; a choice the scheme refuses, which building the scheme
+    /// reports, reads as the scheme's own model here).
+    pub fn wall_model<const N: usize>(
+        &self,
+        wall: &crate::boundary::wall::Wall<N>,
+    ) -> crate::boundary::Model {
+        let paper = self.scheme.paper_wall_model();
+        crate::boundary::resolve(self.numerics.wall_boundary, paper, wall).unwrap_or(paper)
+    }
+
     /// The length across the plane of a 2D flow that the `_total` outputs count \[m\]:
     /// `depth`, or the scene's reference length (the drop's diameter) when it is 0.
     pub fn depth(&self) -> f64 {

@@ -23,18 +23,29 @@
 //! at 8 across PDRI without it broke down at t = 0.045 s (holes in the fluid).
 //!
 //! **Lattice.** `particles_per_diameter` spacings across the cylinder's diameter 2R (dx =
-//! 2R / n), rows as in the channel (on the wall lines' side at the scheme's
-//! `wall_lattice_offset`), without the particles closer to the cylinder's axis than R plus the
-//! same offset. Under ISPH (mirror walls) the fluid next to the cylinder is instead laid in
-//! rings at R + (k + 1/2) dx, up to six of them (beyond the mirrors' reach 3h = 3.9 dx; fewer
-//! where the gap to a channel wall holds fewer spacings), and the square lattice starts six
-//! spacings from the cylinder. The square lattice cut by a circle leaves gaps of up to 1.5 dx
-//! between the first particles and the wall, which mirroring doubles: the kernel sums of the
-//! near-wall particles fell to 0.70 of the lattice's, and Morris' Laplacian of the exact
+//! 2R / n), rows as in the channel (from the wall lines at the straight walls' model's
+//! `boundary::Model::lattice_offset`: one spacing with the papers' wall particles on the
+//! line, half a spacing with dummy particles or mirrors, whose rows lie at -(k + 1/2) dx).
+//! Next to the cylinder the fluid is laid in rings at R + (k + 1/2) dx, up to six of them
+//! (beyond the mirrors' reach 3h = 3.9 dx and the dummy particles' 2h = 3 dx; fewer where the
+//! gap to a channel wall holds fewer spacings), and the square lattice starts where they end: the
+//! cylinder's virtual particles, mirrors or dummy particles, lie in rings at R -+ (k + 1/2) dx,
+//! so the lattice runs on into them. The square lattice cut by a circle leaves gaps of up to
+//! 1.5 dx between the first particles and the wall, which mirroring doubles: the kernel sums of
+//! the near-wall particles fell to 0.70 of the lattice's, and Morris' Laplacian of the exact
 //! Couette field between concentric circles (zero) came out at 0.3 times the wall's shear rate
 //! over dx there, at 8, 16 and 32 across alike (an O(1/dx) error that never converges: the
 //! wall slipped); on the rings it is 0.04, 0.03, 0.01 (test
-//! `mirrors_on_the_ring_lattice_hold_the_couette_field`).
+//! `mirrors_on_the_ring_lattice_hold_the_couette_field`). Under the weakly compressible
+//! schemes the gaps are a volume: the fluid fills them by expanding, and in the closed cell
+//! that is a tension of rho0 c^2 times the gaps' share of the area. The old lattice (rows
+//! from one spacing, the square lattice cut one spacing from the cylinder) held 15.5 % less
+//! than the fluid's area at 8 across and 7.3 % at 16 (the rings and half-spacing rows: 2.3 %
+//! and 0.07 %), while the background pressure below covers 1 % (it is 1 % of rho0 c^2).
+//! Fluid particles that kept their distance from the dummy particles hid it while the
+//! continuity equation read the dummy particles' extrapolated velocity: that doubled the
+//! compression rate of a particle approaching a wall, a cushion. With the wall's velocity
+//! there (Adami et al. 2012), WCSPH filled the gaps and tore at t = 0.04 s (8 across).
 //!
 //! Outputs: `cylinder_drag` and `cylinder_lift`, the force of the fluid on the cylinder alone
 //! along and across the flow per unit depth, and `wall_shear_force`, the force of the fluid on
@@ -347,16 +358,21 @@ fn pressure_scale(cfg: &SceneConfig) -> f64 {
     cfg.fluid.density * c.cylinder_body_force * period(cfg) * height(cfg) / (2.0 * c.cylinder_radius)
 }
 
-/// The most rings of fluid particles round the cylinder under mirror walls: beyond the
-/// mirrors' reach (3h = 3.9 dx), so the seam with the square lattice sees no mirror.
+/// The most rings of fluid particles round the cylinder: beyond the mirrors' reach (3h = 3.9
+/// dx) and the dummy particles' (2h = 3 dx at the default smoothing ratio), so the seam with
+/// the square lattice sees none.
 const MAX_RINGS: usize = 6;
 
-/// Rings round the cylinder for the scene `cfg` under mirror walls: [`MAX_RINGS`], fewer where
-/// the gap to a channel wall or to the next cylinder holds fewer whole spacings.
-fn ring_count(cfg: &SceneConfig) -> usize {
+/// Rings round the cylinder for the scene `cfg`: [`MAX_RINGS`], fewer where the gap to the
+/// next cylinder holds fewer whole spacings, or the gap to a channel wall fewer rings whose
+/// last stays `offset` spacings from the wall line (the straight walls' first fluid row,
+/// `boundary::Model::lattice_offset`: a ring half a spacing from Fang's or Ren's wall
+/// particles on the line would sit inside their half cell).
+fn ring_count(cfg: &SceneConfig, offset: f64) -> usize {
     let (dx, r) = (cfg.dx(), cfg.cylinder_array.cylinder_radius);
-    let gap = (0.5 * height(cfg) - r).min(0.5 * period(cfg) - r);
-    ((gap / dx + 1e-9).floor().max(0.0) as usize).min(MAX_RINGS)
+    let to_wall = (0.5 * height(cfg) - r) / dx - offset + 0.5;
+    let to_next = (0.5 * period(cfg) - r) / dx;
+    ((to_wall.min(to_next) + 1e-9).floor().max(0.0) as usize).min(MAX_RINGS)
 }
 
 /// `rings` rings of particles round `cylinder` at the distances (k + 1/2) dx, each divided
@@ -492,21 +508,23 @@ impl Scene for CylinderArray {
         let (m, h) = (columns(cfg), height(cfg));
         let radius = cfg.cylinder_array.cylinder_radius;
         let cylinder = Ball::obstacle(Vec2::new(0.5 * period(cfg), 0.5 * h), radius);
-        let offset = cfg.scheme.wall_lattice_offset();
+        // As the channel's: the bottom wall along +x, the top one facing down.
+        let bottom = Plate::spanning(Vec2::zeros(), Vec2::new(1.0, 0.0), dx, 0, m - 1);
+        let top = Plate::spanning(Vec2::new(0.0, h), Vec2::new(-1.0, 0.0), dx, 1 - m, 0);
+        // The rows start where the straight walls' model leaves the fluid room
+        // (`boundary::Model::lattice_offset`).
+        let offset = cfg.wall_model(&Wall::from(bottom.clone())).lattice_offset();
         let rows = (h / dx + 1.0 - 2.0 * offset).round() as i64;
         let mut fluid = Fluid {
             mass: cfg.fluid.density * dx * dx,
             ..Default::default()
         };
-        // Mirror walls: rings round the cylinder (module documentation, "Lattice"), the square
-        // lattice from `rings` spacings on.
-        let rings = if matches!(cfg.scheme.paper_wall_model(), crate::boundary::Model::Mirror) {
-            ring_count(cfg)
-        } else {
-            0
-        };
+        // Rings round the cylinder (module documentation, "Lattice"), the square lattice from
+        // `rings` spacings on: the cylinder's mirrors or dummy particles (the two models a
+        // circle takes) lie in rings at R -+ (k + 1/2) dx.
+        let rings = ring_count(cfg, offset);
         fluid.x.extend(ring_lattice(&cylinder, rings, dx));
-        let cut = if rings > 0 { rings as f64 } else { offset };
+        let cut = if rings > 0 { rings as f64 } else { 0.5 };
         for j in 0..rows {
             for i in 0..m {
                 let x = Vec2::new((i as f64 + 0.5) * dx, (j as f64 + offset) * dx);
@@ -521,9 +539,6 @@ impl Scene for CylinderArray {
         if let Some(a0) = rest {
             fluid.conf = vec![a0; count];
         }
-        // As the channel's: the bottom wall along +x, the top one facing down.
-        let bottom = Plate::spanning(Vec2::zeros(), Vec2::new(1.0, 0.0), dx, 0, m - 1);
-        let top = Plate::spanning(Vec2::new(0.0, h), Vec2::new(-1.0, 0.0), dx, 1 - m, 0);
         (fluid, vec![bottom.into(), top.into(), cylinder.into()])
     }
 

@@ -73,18 +73,6 @@ impl SchemeKind {
         matches!(self, SchemeKind::Isph)
     }
 
-    /// Distance from a wall line to the first row of a fluid lattice that fills a walled
-    /// domain, in particle spacings: one with wall particles on the wall line (Fang's and
-    /// Ren's walls: the half cell next to the wall line is the wall particles'), one half with
-    /// mirror walls (King & Lind's: the first mirror row then lies dx below the first fluid
-    /// row, as in the bulk).
-    pub fn wall_lattice_offset(self) -> f64 {
-        match self {
-            SchemeKind::Isph => 0.5,
-            SchemeKind::Wcsph | SchemeKind::Pdri => 1.0,
-        }
-    }
-
     /// The free-surface pressure condition the scheme applies (`isph_free_surface`, with `auto`
     /// resolved to the scene's choice), or None for a scheme without one (the weakly
     /// compressible ones: their surface pressure follows from the density).

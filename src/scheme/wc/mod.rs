@@ -5,7 +5,8 @@
 //! [`WcCore`]), and in the time integration and the density reinitialisation (in the schemes).
 //!
 //! One rate evaluation ([`WcCore::rates`]) runs:
-//! 1. virtual velocities: each wall ([`crate::boundary::Boundary`]) fills its particles';
+//! 1. virtual velocities: each wall ([`crate::boundary::Boundary`]) fills its particles' (and
+//!    says whether the continuity equation takes them or the wall's own velocity);
 //! 2. fluid pass 1 (a gather): pair geometry cached for pass 2 ([`crate::operators::pairs`]),
 //!    velocity gradient and continuity ([`crate::operators::kinematics`]), pressure from the
 //!    equation of state, the stress ([`crate::operators::stress::assemble`]) and, for Ren's
@@ -120,6 +121,10 @@ pub struct WcCore<K: Kernel<N>, R: Rheology, const N: usize = 2> {
     // Work arrays over all particles (fluid first, then virtual).
     all_x: Vec<Vector<N>>,
     all_v: Vec<Vector<N>>,
+    /// Velocities of the virtual particles (alone, in the order of `all_v[nf..]`) in the
+    /// continuity equation: `all_v`'s, or the wall's own velocity for a wall that asks for it
+    /// ([`Boundary::continuity_at_wall_velocity`]).
+    cont_v: Vec<Vector<N>>,
     all_rho: Vec<f64>,
     all_sigma: Vec<Tensor<N>>,
     all_art: Vec<Tensor<N>>,
@@ -173,6 +178,7 @@ where
             vlist: NeighborList::default(),
             all_x: Vec::new(),
             all_v: Vec::new(),
+            cont_v: Vec::new(),
             all_rho: Vec::new(),
             all_sigma: Vec::new(),
             all_art: Vec::new(),
@@ -398,8 +404,15 @@ where
             .with_min_len(MIN_TASK_LIGHT)
             .for_each(|(v, r)| *v = mass / r);
         let t = self.prof.lap(t, "rates: fluid to work arrays", false);
+        self.cont_v.resize(self.all_v.len() - nf, Vector::zeros());
         for ((wall, plate), range) in self.walls.iter().zip(plates).zip(&self.wall_ranges) {
             wall.fill_velocities(plate, fl, &mut self.all_v[range.clone()]);
+            let cont = &mut self.cont_v[range.start - nf..range.end - nf];
+            if wall.continuity_at_wall_velocity() {
+                cont.fill(plate.wall_velocity());
+            } else {
+                cont.copy_from_slice(&self.all_v[range.clone()]);
+            }
         }
         let t = self.prof.lap(t, "rates: walls' velocities", true);
         self.virtual_hessians(nf);

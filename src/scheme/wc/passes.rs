@@ -292,7 +292,7 @@ where
         self.drho.resize(nf, 0.0);
         let (kernel, model, p, art, evss) =
             (&self.kernel, &self.model, &self.p, &self.art, self.evss);
-        let (rec, tau_p) = (&self.rec, &self.tau_p);
+        let (rec, tau_p, cont_v) = (&self.rec, &self.tau_p, &self.cont_v);
         let nlist = &self.nlist;
         let h = kernel.h();
         let cst = PairConst {
@@ -385,9 +385,19 @@ where
                         let mut kin = Kinematics::default();
                         let mut hess = Tensor::zeros();
                         for (j, grad) in js[..k].iter().zip(&gs[..k]) {
+                            let ju = *j as usize;
                             // SAFETY: every j is from i's list (see above).
-                            let rj = unsafe { rec.get_unchecked(*j as usize) };
-                            kin.add_pair(&(vi - rj.v), grad, rj.vol);
+                            let rj = unsafe { rec.get_unchecked(ju) };
+                            let vij = vi - rj.v;
+                            // A virtual neighbour's continuity term takes its own velocity
+                            // (`cont_v`). The branch flips once per particle at most: a list
+                            // is ascending and the virtual particles come after the fluid.
+                            if ju < nf {
+                                kin.add_pair(&vij, grad, rj.vol);
+                            } else {
+                                let cij = vi - cont_v[ju - nf];
+                                kin.add_pair_split(&vij, &cij, grad, rj.vol);
+                            }
                             if HESS {
                                 let xij = delta::<N, PERIODIC>(&xi, &rj.x, &dom);
                                 let r2 = norm2(&xij);
