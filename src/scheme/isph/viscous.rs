@@ -225,12 +225,18 @@ where
         // their share cancels pair by pair (and the surface term's net has been removed). The
         // held particles' rows have none, so what they exert on the free ones is not returned
         // to them: it is the inlet's (`Books::held_momentum`), not the walls'.
-        books.held_momentum += from_inlet * dt;
-        let mut total = -from_inlet;
+        let mut total = Vector::<N>::zeros();
         for (ui, ri) in u.iter().zip(&rhs) {
-            total += (ui - ri) * (mass / dt);
+            let d = (ui - ri) * (mass / dt);
+            books.wall_on_fluid += d;
+            total += d;
         }
-        books.wall_on_fluid += total;
+        // Only with an inlet, so that the books of every other scene keep their bits.
+        if !held.flags.is_empty() {
+            books.held_momentum += from_inlet * dt;
+            books.wall_on_fluid -= from_inlet;
+            total -= from_inlet;
+        }
         books.plate.add_viscous(&plate_terms, total);
         self.lap(t, "viscous: momentum books", true);
         books.viscous_time += t0.elapsed().as_secs_f64();
