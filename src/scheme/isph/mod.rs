@@ -98,7 +98,15 @@
 //!   the inflow velocity, in the spirit of the moving ghost particles King & Lind cite for their
 //!   jet. A held particle moves with its prescribed velocity (no shifting) and keeps it through
 //!   the step: the momentum the forces of the step would have given it is taken by the inlet
-//!   (`Inflow::momentum`), so the momentum balance stays exact. Velocity prescribed means a
+//!   (`Inflow::momentum`), so the momentum balance stays exact. In the implicit viscous solve
+//!   held particles are Dirichlet rows (their velocity), so the column below hangs from a
+//!   nozzle at the inflow velocity: as unknowns of the solve, reset only after it, they were
+//!   dragged down by the column within the step (by about dt T / M, T the column's weight and
+//!   M the nozzle's mass: a tenth to a quarter of U0 at the default step), and the column lost
+//!   part of its hold (Newtonian jet, H = 12 D, 6 across: lowest point D/2 above the plate at
+//!   0.1922 s before, 0.1956 s after; explicit viscous step 0.2157 s, WCSPH 0.2231 s;
+//!   docs/methods.md, "Inlet under ISPH"). What the held particles exert on the free ones in
+//!   the solve is the inlet's momentum, not the walls'. Velocity prescribed means a
 //!   Neumann condition on the pressure: held particles are unknowns of the PPE with
 //!   `lap p = 0` (the prescribed flow is divergence-free) and, where free fluid is within
 //!   their kernel support, never Dirichlet, so the free fluid at the exit sees the pressure

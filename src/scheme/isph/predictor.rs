@@ -185,6 +185,14 @@ where
                 }
             }
         }
+        // The inlet's held particles keep their velocity: what the step's forces would have
+        // given them is the inlet's, taken before the viscous solve, in which they are
+        // Dirichlet rows (`viscous`), so that the column below hangs from a nozzle at the
+        // inflow velocity, not from one it drags along within the step.
+        for i in (0..n).filter(|&i| held.holds(i)) {
+            books.held_momentum += (fl.v[i] - rhs[i]) * mass;
+            rhs[i] = fl.v[i];
+        }
         self.lap(t, "predictor: explicit terms", false);
         let mut u_star = if explicit {
             rhs

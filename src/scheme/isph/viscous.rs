@@ -91,6 +91,11 @@ where
             .into_par_iter()
             .enumerate()
             .for_each(|(i, c)| {
+                // The inlet's held particles are Dirichlet rows (module documentation,
+                // "Inlet"): no coefficients, so the row reads u_i = rhs_i, their velocity.
+                if held.holds(i) {
+                    return;
+                }
                 let off = nl.offset(i);
                 for (k, (ck, &j)) in c.iter_mut().zip(nl.of(i)).enumerate() {
                     let pj = ctx.source(j as usize);
@@ -114,6 +119,8 @@ where
         };
         // The plate's share by particle, at the solved velocities ([`super::plate_load`]).
         let mut plate_terms = Vec::new();
+        // The held particles' viscous force on the free ones, in the solved velocities.
+        let from_inlet;
         if ctx.surf.is_some() {
             // The solvent's surface traction, implicit (`free_surface`, "Free-surface
             // traction"): every row, k_i = 2 mu_i dt s_i / rho with s_i = sum_j V grad W_ij
@@ -158,6 +165,8 @@ where
             )
             .map_err(|e| format!("implicit viscous step: {e}"))?;
             books.iterations[1] = stats.iterations as u64;
+            // Before the surface term's mean is taken out (which moves every free particle).
+            from_inlet = self.inlet_viscous_force(ctx, &coef, theta, &u);
             t = self.lap_solve(t, &opts(N), ["viscous solve", "viscous solve, ILU(0)"]);
             if books.plate.is_on() {
                 plate_terms = self.viscous_wall_terms(ctx, &coef, theta, visc_curv, &u);
@@ -203,6 +212,7 @@ where
             )
             .map_err(|e| format!("implicit viscous step: {e}"))?;
             books.iterations[1] = stats.iter().map(|s| s.iterations as u64).sum();
+            from_inlet = self.inlet_viscous_force(ctx, &coef, theta, &u);
             t = self.lap_solve(t, &opts(1), ["viscous solve", "viscous solve, ILU(0)"]);
             if books.plate.is_on() {
                 plate_terms = self.viscous_wall_terms(ctx, &coef, theta, visc_curv, &u);
@@ -210,19 +220,62 @@ where
             self.split_viscous_force(ctx, &coef, theta, visc_curv, &u, books);
             t = self.lap(t, "viscous: wall forces", false);
         }
-        // The momentum the solve changed is the virtual particles' viscous force: the
-        // fluid-fluid coefficients are symmetric, so their share cancels pair by pair (and the
-        // surface term's net has been removed).
+        // The momentum the solve changed is the virtual particles' viscous force and the held
+        // particles' (the inlet's): the coefficients between free particles are symmetric, so
+        // their share cancels pair by pair (and the surface term's net has been removed). The
+        // held particles' rows have none, so what they exert on the free ones is not returned
+        // to them: it is the inlet's (`Books::held_momentum`), not the walls'.
         let mut total = Vector::<N>::zeros();
         for (ui, ri) in u.iter().zip(&rhs) {
             let d = (ui - ri) * (mass / dt);
             books.wall_on_fluid += d;
             total += d;
         }
+        // Only with an inlet, so that the books of every other scene keep their bits.
+        if !held.flags.is_empty() {
+            books.held_momentum += from_inlet * dt;
+            books.wall_on_fluid -= from_inlet;
+            total -= from_inlet;
+        }
         books.plate.add_viscous(&plate_terms, total);
         self.lap(t, "viscous: momentum books", true);
         books.viscous_time += t0.elapsed().as_secs_f64();
         Ok(u)
+    }
+
+    /// The viscous force of the inlet's held particles on the free ones in the solved velocity
+    /// `u`: `theta sum_i m sum_{j held} coef_ij (u_i - u_j) / rho` over the free particles i
+    /// (Morris' coefficients are negative; zero without an inlet), summed in index order.
+    fn inlet_viscous_force(
+        &self,
+        ctx: &Context<N>,
+        coef: &[f64],
+        theta: f64,
+        u: &[Vector<N>],
+    ) -> Vector<N> {
+        let (n, nl, held) = (ctx.n, &ctx.nl, &ctx.held);
+        if held.flags.is_empty() {
+            return Vector::<N>::zeros();
+        }
+        let per: Vec<Vector<N>> = (0..n)
+            .into_par_iter()
+            .with_min_len(MIN_TASK)
+            .map(|i| {
+                let mut f = Vector::<N>::zeros();
+                if held.holds(i) {
+                    return f;
+                }
+                let off = nl.offset(i);
+                for (kk, &j) in nl.of(i).iter().enumerate() {
+                    let j = j as usize;
+                    if j < n && held.holds(j) {
+                        f += (u[i] - u[j]) * coef[off + kk];
+                    }
+                }
+                f
+            })
+            .collect();
+        per.iter().fold(Vector::<N>::zeros(), |a, f| a + f) * (theta * ctx.mass / self.rho)
     }
 
     /// Each wall's share of the implicit viscous force on the fluid, where the step splits the
