@@ -228,8 +228,8 @@ fn isph_table_convergence_and_cross_scheme() {
 fn jet_bench() {
     let dir = tempfile::tempdir().unwrap();
     let md = bench(&["jet"], dir.path());
-    // label -> (sheet model, contact) [s]
-    let rows: Vec<(String, f64, f64, String)> = md
+    // label -> (sheet model, contact, lowest point at D/2) [s], breakdown
+    let rows: Vec<(String, f64, f64, f64, String)> = md
         .lines()
         .filter(|l| l.starts_with("| isph,") || l.starts_with("| wcsph,"))
         .map(|l| {
@@ -238,12 +238,13 @@ fn jet_bench() {
                 c[1].to_string(),
                 c[2].parse().unwrap(),
                 c[3].parse().unwrap(),
-                c[11].to_string(),
+                c[4].parse().unwrap(),
+                c[12].to_string(),
             )
         })
         .collect();
     assert_eq!(rows.len(), 23, "{md}");
-    assert!(rows.iter().all(|r| r.3 == "none"), "{md}");
+    assert!(rows.iter().all(|r| r.4 == "none"), "{md}");
     let get = |label: &str| {
         rows.iter()
             .find(|r| r.0 == label)
@@ -265,9 +266,17 @@ fn jet_bench() {
         get("isph, fene_p, L^2 = 10, Wi = 10/3"),
         get("isph, fene_cr, L^2 = 10, Wi = 10/3"),
     );
+    // The sheet model lands FENE-P first. ISPH's order is not resolved at 4 across: both heads
+    // touch the plate in the same step (about 0.6 ms; contact 0.1498 s) and their lowest points
+    // pass D/2 within 0.1 ms of each other (0.1487 and 0.1486 s). tests/jet.rs asserts it at
+    // 6 across, the full bench's resolution.
     assert!(
-        p.1 < cr.1 && p.2 < cr.2,
-        "FENE-P before FENE-CR: {p:?} {cr:?}"
+        p.1 < cr.1,
+        "the sheet model lands FENE-P first: {p:?} {cr:?}"
+    );
+    assert!(
+        (p.3 - cr.3).abs() < 5e-4,
+        "FENE-P and FENE-CR fall alike at 4 across: {p:?} {cr:?}"
     );
     // Every jet and sheet from 12 D is held back by its viscosity: later than free fall from
     // the exit (0.1025 s). (How close each scheme comes to the sheet is measured at 6 across by

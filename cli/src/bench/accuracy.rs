@@ -207,7 +207,8 @@ fn elliptical_drop_3d(
         let name = if ratio == 1.5 {
             scheme_name.to_string()
         } else {
-            format!("{scheme_name}, h = {ratio} dx")
+            // No comma: the name is a field of accuracy.csv.
+            format!("{scheme_name} (h = {ratio} dx)")
         };
         for &ppd in ppds {
             let mut c = SceneConfig::for_scene(viscosph::scene::SceneKind::EllipticalDrop);

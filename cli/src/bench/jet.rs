@@ -16,7 +16,7 @@ use crate::run::{run, RunOptions};
 use std::fmt::Write as _;
 use std::path::Path;
 use viscosph::config::Value;
-use viscosph::scene::jet::buckling;
+use viscosph::scene::jet::{arrival, buckling};
 use viscosph::scene::{SceneConfig, SceneKind};
 use viscosph_reference::analytic::falling_sheet;
 
@@ -157,11 +157,11 @@ pub fn bench_jet(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::
     let mut md = format!(
         "King & Lind's jet, {ppd} particles across, to t = {t_end} s unless stated, outputs every \
          {} ms (sheet model: when the slender-sheet model of the same fluid has fallen the nozzle height, \
-         viscosph_reference::analytic::falling_sheet; contact: first output with a wall force; impact: first output with a heap; \
+         viscosph_reference::analytic::falling_sheet; contact: first output with a wall force; D/2: when the fluid's lowest point passed D/2 above the plate, interpolated between outputs, which resolves arrivals closer than a step; impact: first output with a heap; \
          buckling onset: |jet_deflection| > 0.1 D; amplitude: half the range of jet_deflection \
          over the second half of the record after impact).\n\n\
-         | case | sheet model [s] | contact [s] | impact [s] | onset [s] | frequency [Hz] | amplitude / D | max tr(A) | steps | wall time [s] | breakdown |\n\
-         |---|---|---|---|---|---|---|---|---|---|---|\n",
+         | case | sheet model [s] | contact [s] | D/2 [s] | impact [s] | onset [s] | frequency [Hz] | amplitude / D | max tr(A) | steps | wall time [s] | breakdown |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|\n",
         dt_out * 1e3
     );
     let mut csv = String::from("case,time,jet_deflection,drop_width,drop_height,injected_mass\n");
@@ -176,11 +176,12 @@ pub fn bench_jet(out: &Path, quick: bool) -> Result<String, Box<dyn std::error::
         let opt = |x: Option<f64>| x.map_or("-".to_string(), |t| format!("{t:.4}"));
         writeln!(
             md,
-            "| {label} | {} | {} | {} | {} | {} | {:.3} | {} | {} | {:.1} | {} |",
+            "| {label} | {} | {} | {} | {} | {} | {} | {:.3} | {} | {} | {:.1} | {} |",
             opt(
                 falling_sheet::arrival(&c, falling_sheet::ELEMENTS_PER_WIDTH, 10.0).map(|a| a.time)
             ),
             opt(contact(&res.series)),
+            opt(arrival(&res.series, 0.5 * D)),
             opt(b.impact),
             opt(b.onset),
             if b.frequency > 0.0 {
