@@ -180,11 +180,7 @@ impl Scene for Channel {
             mass: cfg.fluid.density * dx * dx,
             ..Default::default()
         };
-        let h = cfg.channel.channel_width;
-        let bottom = Plate::spanning(Vec2::zeros(), Vec2::new(1.0, 0.0), dx, 0, m - 1);
-        // The upper wall faces down: tangent -x, normal -y; its columns at s = -k dx sit at
-        // x = k dx, k = 0 .. m-1.
-        let top = Plate::spanning(Vec2::new(0.0, h), Vec2::new(-1.0, 0.0), dx, 1 - m, 0);
+        let (bottom, top, offset) = walls_and_offset(cfg, cfg.channel.channel_width, m, dx);
         // Wall particles (Fang's, Ren's: wcsph, pdri by default) sit on the wall lines, so the
         // fluid rows are at j dx, j = 1 .. n-1. Mirrors (isph) reflect the fluid itself and
         // dummy particles lie at -(k + 1/2) dx: rows at (j + 1/2) dx, j = 0 .. n-1, put the
@@ -192,7 +188,6 @@ impl Scene for Channel {
         // gap of 2 dx at each mirror wall: measured, the Newtonian Lagrangian centre line
         // settled 10 % high at 30 across.) The wall model says which
         // (`boundary::Model::lattice_offset`).
-        let offset = cfg.wall_model(&Wall::from(bottom.clone())).lattice_offset();
         let rows = (n as f64 + 1.0 - 2.0 * offset).round() as i64;
         for j in 0..rows {
             let y = (j as f64 + offset) * dx;
@@ -375,6 +370,18 @@ pub fn build_3d(cfg: &SceneConfig, rest: Option<Tensor<3>>) -> (Fluid<3>, Vec<Wa
     };
     // As in 2D, the upper wall's tangent is -x: its columns at s = -k dx sit at x = k dx.
     (fluid, vec![wall(0.0, 1.0, 0, m - 1), wall(h, -1.0, 1 - m, 0)])
+}
+
+/// The walls of a 2D channel `h` high with `m` columns of spacing `dx` (the channel's and the
+/// cylinder cell's): the bottom wall along +x, the upper one facing down (tangent -x, normal
+/// -y; its columns at s = -k dx sit at x = k dx, k = 0 .. m-1), and the distance in spacings
+/// from their lines to the first fluid row that their model leaves the fluid
+/// (`boundary::Model::lattice_offset`).
+pub fn walls_and_offset(cfg: &SceneConfig, h: f64, m: i64, dx: f64) -> (Plate, Plate, f64) {
+    let bottom = Plate::spanning(Vec2::zeros(), Vec2::new(1.0, 0.0), dx, 0, m - 1);
+    let top = Plate::spanning(Vec2::new(0.0, h), Vec2::new(-1.0, 0.0), dx, 1 - m, 0);
+    let offset = cfg.wall_model(&Wall::from(bottom.clone())).lattice_offset();
+    (bottom, top, offset)
 }
 
 /// A closed cell driven by a body force (the channel, the cylinder array): gravity off, and so

@@ -61,7 +61,6 @@
 //! F_walls`; test `the_momentum_balance_closes_at_steady_state`).
 
 use super::{Outputs, Predictions, Scene, SceneConfig, SceneType, SteadyWindow};
-use crate::boundary::plate::Plate;
 use crate::boundary::wall::Wall;
 use crate::config::{integer, real, real_pos, ConfigError, WallBoundary};
 use crate::geometry::{Ball, Shape};
@@ -508,12 +507,8 @@ impl Scene for CylinderArray {
         let (m, h) = (columns(cfg), height(cfg));
         let radius = cfg.cylinder_array.cylinder_radius;
         let cylinder = Ball::obstacle(Vec2::new(0.5 * period(cfg), 0.5 * h), radius);
-        // As the channel's: the bottom wall along +x, the top one facing down.
-        let bottom = Plate::spanning(Vec2::zeros(), Vec2::new(1.0, 0.0), dx, 0, m - 1);
-        let top = Plate::spanning(Vec2::new(0.0, h), Vec2::new(-1.0, 0.0), dx, 1 - m, 0);
-        // The rows start where the straight walls' model leaves the fluid room
-        // (`boundary::Model::lattice_offset`).
-        let offset = cfg.wall_model(&Wall::from(bottom.clone())).lattice_offset();
+        // The channel's walls; the rows start where their model leaves the fluid room.
+        let (bottom, top, offset) = super::channel::walls_and_offset(cfg, h, m, dx);
         let rows = (h / dx + 1.0 - 2.0 * offset).round() as i64;
         let mut fluid = Fluid {
             mass: cfg.fluid.density * dx * dx,
