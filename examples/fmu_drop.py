@@ -15,13 +15,14 @@ import argparse
 import csv
 import pathlib
 import sys
+import tempfile
 import time
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-from fmpy import read_model_description, simulate_fmu  # noqa: E402
+from fmpy import extract, read_model_description, simulate_fmu  # noqa: E402
 from fmpy.fmi1 import FMICallException  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
@@ -102,11 +103,14 @@ def main():
         print(f"[FMU {category.decode()}] {text}", file=sys.stderr)
 
     t0 = time.perf_counter()
-    try:
-        result = simulate_fmu(args.fmu, start_values=start_values, stop_time=stop_time,
-                              output_interval=args.step, output=outputs, logger=logger)
-    except FMICallException as e:
-        sys.exit(f"the FMU refused the run: {e}")
+    # Unzipped here rather than by simulate_fmu, which leaves its folder behind when a call raises
+    with tempfile.TemporaryDirectory(ignore_cleanup_errors=True) as unzipdir:
+        extract(args.fmu, unzipdir=unzipdir)
+        try:
+            result = simulate_fmu(unzipdir, start_values=start_values, stop_time=stop_time,
+                                  output_interval=args.step, output=outputs, logger=logger)
+        except FMICallException as e:
+            sys.exit(f"the FMU refused the run: {e}")
     elapsed = time.perf_counter() - t0
 
     out = pathlib.Path(args.out)
