@@ -23,6 +23,17 @@
 //! 40 gives W*(8) 1.997 / 1.910, largest |volume_error| 0.93 / 0.52 % (p = 0: 2.127 / 1.962,
 //! 0.85 / 0.45 %), hence p = 0 for drops (docs/methods.md, "The ISPH jet with (35a)").
 //!
+//! **The surface value's gradient.** G in `-2 mu t.G(u*).t` is the Bonet & Lok 1999 corrected
+//! gradient with the surface particle's own correction matrix, not the identity the rest of the
+//! step gives the free surface ([`super::neighbours`]): the uncorrected gradient of a truncated
+//! support reads the stretching along the surface short (0.73-0.80 of the column's dv/dy on
+//! the surface rows of King & Lind's Newtonian jet at 6 across, 4 particles wide), and the
+//! tension (35a) puts on the column's sides with it. Only this value takes it, so the
+//! conformation and the stresses keep the uncorrected gradient whose stability the drops need.
+//! Measured (Newtonian jet, H = 12 D, 6 across, lowest point D/2 above the plate against the
+//! slender-sheet model): -10.8 % -> -6.9 % at the default step, the explicit viscous step
+//! -1.7 % -> +1.3 %; with the splitting limit of [`super::step_size`] -2.2 %.
+//!
 //! **p = 0**, King's public code's choice, was first taken instead of the normal-stress value
 //! of (35a) because, measured on the drop of King & Lind IV.C at W/dr = 20: with the solvent's
 //! 2 eta_s n.D.n in the Dirichlet value, the Newtonian drop splashes at impact (W* = 4.5 at

@@ -368,6 +368,9 @@ struct Context<const N: usize> {
     pub nl: NeighborList,
     /// Bonet & Lok correction matrices (22), the identity on the free surface.
     pub l: Vec<Tensor<N>>,
+    /// With the normal-stress surface condition, every particle's own correction matrix, the
+    /// free surface's included (empty otherwise; [`free_surface`], "Free-surface pressure").
+    pub l_own: Vec<Tensor<N>>,
     /// Free surface and normals (36)-(39), with a free surface.
     pub surf: Option<Surface<N>>,
     /// Corrections to the virtual particles' no-slip velocities (the closed channel's wall
@@ -504,6 +507,7 @@ where
             virt: nb.virt,
             nl: nb.nl,
             l: nb.l,
+            l_own: nb.l_own,
             surf: nb.surf,
             u_curv: nb.u_curv,
         };

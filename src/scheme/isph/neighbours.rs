@@ -29,6 +29,9 @@ pub(super) struct Neighbourhood<const N: usize> {
     pub nl: NeighborList,
     /// Correction matrices L_i, the identity on the free surface.
     pub l: Vec<Tensor<N>>,
+    /// With the normal-stress surface condition, every particle's own L_i, the free surface's
+    /// included (empty otherwise): (35a)'s surface value reads the tangential strain through it.
+    pub l_own: Vec<Tensor<N>>,
     pub surf: Option<surface::Surface<N>>,
     /// Corrections to the virtual no-slip velocities (zeros with a free surface).
     pub u_curv: Vec<Vector<N>>,
@@ -89,6 +92,11 @@ where
             lagrangian.then_some(self.p.dx),
         );
         let (mut l, surf) = (sums.l, sums.surface);
+        let l_own = if self.normal_stress {
+            l.clone()
+        } else {
+            Vec::new()
+        };
         // Free-surface particles take the uncorrected gradient (module documentation).
         if let Some(s) = &surf {
             for (li, &fs) in l.iter_mut().zip(&s.is_surface) {
@@ -111,6 +119,7 @@ where
             virt,
             nl,
             l,
+            l_own,
             surf,
             u_curv,
             grad_c: sums.grad_c,

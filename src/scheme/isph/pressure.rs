@@ -199,7 +199,19 @@ where
                     .any(|&j| (j as usize) < n && !held.holds(j as usize))
         };
         let offsets = self.pressure_offsets(ctx);
-        let rows = self.surface_rows(st, ctx, &offsets, &kappa_star, &f.mu, neumann);
+        // (35a)'s surface value reads the tangential strain with the surface particles' own
+        // correction ([`super::free_surface`], "Free-surface pressure").
+        let kappa_surface = if self.normal_stress {
+            corrected_velocity_gradients(n, &us_all, vol, nl, pairs, &ctx.l_own)
+        } else {
+            Vec::new()
+        };
+        let kappa_fs = if self.normal_stress {
+            &kappa_surface
+        } else {
+            &kappa_star
+        };
+        let rows = self.surface_rows(st, ctx, &offsets, kappa_fs, &f.mu, neumann);
         let ghosts = GhostLink {
             parent: &ctx.virt.parent,
             sign: &[],

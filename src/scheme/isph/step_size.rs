@@ -15,6 +15,15 @@
 //! without it). `Isph::pressure_wave_dt` derives it; `PRESSURE_WAVE_LIMIT` gives the
 //! measurements.
 //!
+//! **With the normal-stress surface condition (the jet) the implicit viscous step keeps
+//! `nu dt / h^2 <= 1`** at the default factor (`SPLIT_VISCOUS_LIMIT`): an accuracy limit.
+//! Split from the projection, backward Euler's viscous solve equilibrates the surface rows to
+//! its own surface terms within the step, and the pressure that the explicit step's PPE builds
+//! from the viscous force's lateral part (a suction two to three times (35a)'s tension inside
+//! a 4-particle column, measured) is then missing from the column's tension: the Newtonian jet
+//! landed 7-11 % early at nu dt / h^2 of about 3.6, converging only as the square root of the
+//! step (docs/methods.md, "Why ISPH's column falls early").
+//!
 //! **EVSS's explicit part limits the implicit step**: `rho h^2 / (alpha_V eta0)`, the explicit
 //! viscous limit of the wide operator on alpha_V eta0 2D. Without it alpha_V eta0 went
 //! through the implicit solve but its explicit counterpart ran at nu alpha dt / h^2 = 1.2
@@ -64,6 +73,21 @@ const STRETCHED_WAVE_LIMIT: f64 = 5.0;
 /// harder at smaller steps), so 0.5 is kept: stable, the near-wall layer's noise left open
 /// (docs/isph.md, "The positive-form pressure wave").
 const PRESSURE_WAVE_LIMIT: f64 = 0.5;
+/// The implicit viscous step's splitting limit with the normal-stress surface condition (the
+/// jet): `dt <= SPLIT_VISCOUS_LIMIT rho h^2 / eta0` per unit time-step coefficient, i.e.
+/// `nu dt / h^2 <= 1` at the default factor (eta0 the whole viscosity, as (28)'s viscous
+/// limit; [`Isph::stable_dt`]). An accuracy limit, not a stability one: backward Euler's
+/// viscous solve, split from the projection, lets the column's stretching lose part of its
+/// tension within a layer of depth sqrt(nu dt) at the free surface, and a planar jet 4-6
+/// particles across is all such layer. Measured on King & Lind's Newtonian jet (H = 12 D, 6
+/// across, the sheet model 0.2243 s; lowest point at D/2 above the plate / first contact,
+/// against the slender-sheet model of the same fall; with (35a)'s surface value from the
+/// surface particles' own corrected gradient, `free_surface`): without the limit (nu dt / h^2
+/// about 3.6) -6.9 % / -7.7 %, 275 steps to contact; `time_step_factor` 0.1 -3.0 % / -3.7 %,
+/// 827 steps; this limit -2.2 % / -2.8 %, 1110 steps (1.2 s CPU against 0.4 s, the explicit
+/// viscous step 2.9 s, +1.3 % / +0.8 %). Drops and channels (p = 0 on the surface, or none)
+/// do not take it.
+const SPLIT_VISCOUS_LIMIT: f64 = 5.0;
 /// A stable step (28) this far below the scene's time scale ([`Isph::time_scale`]) means the
 /// flow has blown up. An incompressible run has no density to watch, and (28) follows a
 /// diverging speed down without ever reaching zero: a Re = 4 drop that diverged at W/dr = 80
@@ -169,6 +193,9 @@ where
         match self.viscous {
             ViscousStep::Explicit => lim = lim.min(rho_h2 / eta_all),
             ViscousStep::Implicit => {
+                if self.normal_stress {
+                    lim = lim.min(SPLIT_VISCOUS_LIMIT * rho_h2 / eta_all);
+                }
                 if self.evss.is_on() {
                     lim = lim.min(rho_h2 / self.evss.added_viscosity());
                 }
