@@ -447,8 +447,7 @@ fn isph_column_falls_with_the_slender_sheet_model() {
 /// FENE-CR jet (L^2 = 10), as the slender-sheet model of the same fluids does (`viscosph bench
 /// jet`: 0.1913 s against 0.1969 s to fall the nozzle height). Under ISPH at 6 across
 /// (the full `viscosph bench jet`'s resolution) the lowest point passes D/2 above the plate
-/// first for FENE-P. At 4 across (`bench jet --quick`) the two pass within 0.1 ms of each
-/// other and the order is not resolved.
+/// first for FENE-P (`bench jet --quick` checks the same order at 4 across).
 #[test]
 fn isph_fene_p_jet_reaches_the_plate_before_fene_cr() {
     let half_d = |model: &str| {

@@ -267,10 +267,7 @@ fn jet_bench() {
         get("isph, fene_cr, L^2 = 10, Wi = 10/3"),
     );
     // The sheet model lands FENE-P first, and so does ISPH at 4 across (King & Lind's order):
-    // lowest point at D/2 0.1619 s against 0.1640 s, contact 0.1631 against 0.1653 s. (Before
-    // (35a)'s surface value read the surface rows' own corrected gradient and the jet's
-    // implicit viscous step kept nu dt / h^2 <= 1, both heads touched the plate in the same
-    // step and passed D/2 within 0.1 ms of each other.)
+    // lowest point at D/2 0.1619 s against 0.1640 s, contact 0.1631 against 0.1653 s.
     assert!(
         p.1 < cr.1,
         "the sheet model lands FENE-P first: {p:?} {cr:?}"

@@ -74,16 +74,27 @@ pub fn corrected_velocity_gradients<const N: usize>(
     (0..n)
         .into_par_iter()
         .with_min_len(MIN_TASK)
-        .map(|i| {
-            let off = list.offset(i);
-            let mut k = Tensor::<N>::zeros();
-            for (kk, &j) in list.of(i).iter().enumerate() {
-                let g = pairs.grad[off + kk];
-                k += (u[j as usize] - u[i]) * g.transpose();
-            }
-            k * l[i].transpose() * vol
-        })
+        .map(|i| corrected_velocity_gradient(i, u, vol, list, pairs, &l[i]))
         .collect()
+}
+
+/// Particle `i`'s term of [`corrected_velocity_gradients`] with the correction matrix `l_i`
+/// (the same operations in the same order, so the same bits).
+pub fn corrected_velocity_gradient<const N: usize>(
+    i: usize,
+    u: &[Vector<N>],
+    vol: f64,
+    list: &NeighborList,
+    pairs: &PairCache<N>,
+    l_i: &Tensor<N>,
+) -> Tensor<N> {
+    let off = list.offset(i);
+    let mut k = Tensor::<N>::zeros();
+    for (kk, &j) in list.of(i).iter().enumerate() {
+        let g = pairs.grad[off + kk];
+        k += (u[j as usize] - u[i]) * g.transpose();
+    }
+    k * l_i.transpose() * vol
 }
 
 #[cfg(test)]

@@ -58,7 +58,7 @@ use super::step_size::DT_COEF_PER_FACTOR;
 use super::{Books, Context, Fields, Isph, MIN_TASK};
 use crate::dim::{Const, Dim, Vector};
 use crate::kernel::Kernel;
-use crate::operators::kinematics::corrected_velocity_gradients;
+use crate::operators::kinematics::{corrected_velocity_gradient, corrected_velocity_gradients};
 use crate::operators::surface;
 use crate::rheology::Rheology;
 use crate::state::State;
@@ -109,7 +109,7 @@ where
         let (n, dt, vol, rho) = (ctx.n, ctx.dt, ctx.vol, self.rho);
         let (nl, held, pairs) = (&ctx.nl, &ctx.held, &self.pairs);
         let us_all = ctx.extend(u_star);
-        let kappa_star = corrected_velocity_gradients(n, &us_all, vol, nl, pairs, &ctx.l);
+        let mut kappa_star = corrected_velocity_gradients(n, &us_all, vol, nl, pairs, &ctx.l);
         let mut b: Vec<f64> = kappa_star
             .iter()
             .enumerate()
@@ -200,18 +200,18 @@ where
         };
         let offsets = self.pressure_offsets(ctx);
         // (35a)'s surface value reads the tangential strain with the surface particles' own
-        // correction ([`super::free_surface`], "Free-surface pressure").
-        let kappa_surface = if self.normal_stress {
-            corrected_velocity_gradients(n, &us_all, vol, nl, pairs, &ctx.l_own)
-        } else {
-            Vec::new()
-        };
-        let kappa_fs = if self.normal_stress {
-            &kappa_surface
-        } else {
-            &kappa_star
-        };
-        let rows = self.surface_rows(st, ctx, &offsets, kappa_fs, &f.mu, neumann);
+        // correction ([`super::free_surface`], "Free-surface pressure"); elsewhere `l_own` is
+        // `l`, so only the surface rows' gradients change (the source above is already summed).
+        if let (true, Some(s)) = (self.normal_stress, &ctx.surf) {
+            kappa_star
+                .par_iter_mut()
+                .enumerate()
+                .filter(|(i, _)| s.is_surface[*i])
+                .for_each(|(i, k)| {
+                    *k = corrected_velocity_gradient(i, &us_all, vol, nl, pairs, &ctx.l_own[i]);
+                });
+        }
+        let rows = self.surface_rows(st, ctx, &offsets, &kappa_star, &f.mu, neumann);
         let ghosts = GhostLink {
             parent: &ctx.virt.parent,
             sign: &[],
