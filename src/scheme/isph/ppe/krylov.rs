@@ -40,6 +40,15 @@ impl Preconditioner {
     /// 0.129 s over 51 steps (AMG's set-up does not pay on so few rows). The switch lies between
     /// the two, where `ppe_bench`'s cold solves at 5,008 rows cost about the same
     /// (docs/isph.md).
+    ///
+    /// 3D keeps the same switch. King & Lind's Re = 4 drop as a sphere (one thread, AMD EPYC
+    /// under load, CPU of the pressure solve, each preconditioner forced in turn): 2,176
+    /// particles, 20 steps of the fall, ILU(0) 0.50 s against AMG 0.86 s; 4,224 particles, 25
+    /// steps of the fall 1.66 against 2.59 s, 58 steps through the impact (t* = 0.7) 3.73
+    /// against 6.21 s; 9,328 particles, 32 steps of the fall 6.04 against 9.73 s. ILU(0) takes
+    /// about 0.6 of AMG's CPU up to 10^4 particles, but on one thread: on two, AMG's halved
+    /// wall time about equals it at 5,000-10,000 rows, and on more cores AMG wins, so the switch
+    /// stays at [`AMG_MIN_ROWS`] for both dimensions.
     pub fn for_pressure(rows: usize) -> Self {
         if rows >= AMG_MIN_ROWS {
             Preconditioner::Amg
