@@ -134,8 +134,9 @@ where
     /// (from the last step's pressures of `st` and the virtual particles' `offsets`), plus with
     /// the normal-stress condition (35a)'s value from the predicted velocity's gradient
     /// `kappa_star`, the viscosity `mu` and the stress Phi `phi` (empty for an inelastic
-    /// model); then every such row where Morris' Laplacian misses
-    /// neighbours beyond the surface keeps its continuity equation as a Robin row.
+    /// model); then every such row where Morris' Laplacian misses neighbours beyond the surface
+    /// keeps its continuity equation as a Robin row.
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn surface_rows(
         &self,
         st: &State<N>,
