@@ -126,10 +126,10 @@ pub fn max_jet_velocity(cfg: &SceneConfig) -> f64 {
 /// 20), about a minute to t* = 8 (0.97 s). Under WCSPH, which buckles from 12 D, reproduces
 /// both of King & Lind's arrival trends and reaches the plate within -2 to +8 % of the
 /// slender-sheet model (`reference/src/analytic/falling_sheet.rs`). King & Lind's ISPH buckles too
-/// (`isph_free_surface = auto`), but at this resolution its Oldroyd-B columns land 4-9 % before
-/// the slender-sheet model (the Newtonian column 2.8 %, with its implicit viscous step kept to
-/// nu dt / h^2 <= 1), thin to two particles and tear, and a run takes about twice WCSPH's wall
-/// time (docs/methods.md, "Why WCSPH and not King & Lind's ISPH").
+/// (`isph_free_surface = auto`) and at this resolution reaches the plate within 3 % of the
+/// slender-sheet model (Newtonian -2.8 %, Oldroyd-B within 0.4 % at Wi = 1/3 ... 20/3), but
+/// not at 4 across, and its column thins to two particles and tears
+/// (docs/methods.md, "Why WCSPH and not King & Lind's ISPH").
 /// Written as a scene file and read through the table (`SceneConfig::for_scene`), so every
 /// value is checked against its row's range.
 pub const DEFAULTS: &str = "\

@@ -53,6 +53,18 @@
 //! Lind's drop (UCM, De = 10, W/dr = 40): in free flight (a rigid translation) min det A is
 //! 1.000, against 0.766 with the full gradient.
 //!
+//! **The surface rows' stretching** (normal-stress surface condition, the jet). The rest of the
+//! step gives the free surface the uncorrected gradient ([`super::neighbours`]), which on a
+//! truncated support reads the stretching along the surface short (0.73-0.80 of the column's
+//! dv/dy on the surface rows of King & Lind's jet at 6 across), so the polymer of the surface
+//! rows, a third to a half of a column 4-6 particles wide, was stretched too little. With
+//! `isph_free_surface = normal_stress` the conformation takes each surface row's gradient
+//! with its own Bonet & Lok 1999 matrix, as (35a)'s surface value does ([`super::free_surface`]);
+//! the stress Phi's EVSS part, the viscosity and the ALE remapping keep the uncorrected one.
+//! Measured (Oldroyd-B jet, Wi = 1/3, H = 12 D, 6 across, first contact against the slender-sheet
+//! model): -9.1 % -> -6.8 % alone (docs/methods.md, "Why ISPH's column falls early"). The drops
+//! (p = 0 on the surface) keep the uncorrected gradient, whose stability they need.
+//!
 //! **Bounded ALE term with a free surface.** With the traceless gradient, the one thing left
 //! that could lower det A is the Lagrangian ALE term `dt u_ps . grad Psi` of (31). As a central
 //! difference it is not bounded: where Psi varies steeply (the wall row at the moving contact
@@ -91,6 +103,7 @@
 use super::{Context, Isph, MIN_TASK};
 use crate::config::ConformationMethod;
 use crate::dim::{Const, Dim, Tensor, Vector};
+use crate::operators::kinematics::corrected_velocity_gradient;
 use crate::rheology::{self, logconf, Rheology};
 use crate::state::State;
 use rayon::prelude::*;
@@ -197,6 +210,37 @@ where
             ));
         }
         Ok(conf)
+    }
+
+    /// The velocity gradients the conformation takes where they differ from `kappa` (module
+    /// documentation, "The surface rows' stretching"): with the normal-stress surface condition
+    /// and an elastic model, `kappa` with each surface row's gradient of `u_n` (fluid and
+    /// virtual velocities) recomputed with its own correction matrix; None otherwise.
+    pub(super) fn surface_own_gradient(
+        &self,
+        kappa: &[Tensor<N>],
+        u_n: &[Vector<N>],
+        ctx: &Context<N>,
+    ) -> Option<Vec<Tensor<N>>> {
+        let s = ctx
+            .surf
+            .as_ref()
+            .filter(|_| R::ELASTIC && self.normal_stress)?;
+        let mut k = kappa.to_vec();
+        k.par_iter_mut()
+            .enumerate()
+            .filter(|(i, _)| s.is_surface[*i])
+            .for_each(|(i, ki)| {
+                *ki = corrected_velocity_gradient(
+                    i,
+                    u_n,
+                    ctx.vol,
+                    &ctx.nl,
+                    &self.pairs,
+                    &ctx.l_own[i],
+                );
+            });
+        Some(k)
     }
 
     /// The stress Phi (polymer stress with EVSS's part, King & Lind eqs. (6)-(8)) of the

@@ -34,6 +34,23 @@
 //! slender-sheet model): -10.8 % -> -6.9 % at the default step, the explicit viscous step
 //! -1.7 % -> +1.3 %; with the splitting limit of [`super::step_size`] -2.2 %.
 //!
+//! **The polymer's normal stress** (an elastic fluid under `normal_stress`): the surface value
+//! is (35a)'s with the total extra stress, `p_s = -2 mu t.G(u*).t + n.Phi.n`, Phi the polymer
+//! stress of step 3 (with EVSS's part, whose viscosity is in `mu`), while div Phi keeps the
+//! positive form's stress-free part `2 Phi_i s_i` ([`super::predictor`]). In the continuum
+//! limit that counts the polymer's normal stress at the surface twice (the positive form's
+//! Phi continues as -Phi_i beyond the surface, i.e. vanishes on it, and p_s adds n.Phi.n); on
+//! King & Lind's jet at 6 across it is what carries the column's tension: the lateral polymer
+//! stress n.Phi.n is negative on the column's sides, so the interior pressure it sets is a
+//! suction that pulls the column together along its length, as (35a)'s solvent value does.
+//! Measured (Oldroyd-B jet, H = 12 D, 6 across, first contact against the slender-sheet model,
+//! with the corrected div Phi of [`super::predictor`] and the surface rows' own gradient in the
+//! conformation): Wi = 1/3 ... 20/3 -0.4 / -0.2 / -0.0 / +0.3 % (without the polymer's part
+//! -6.8 / -6.6 / -3.6 % at Wi = 1/3, 5/3, 20/3). The consistent pairing, div Phi as the corrected difference
+//! form without the stress-free part and n.Phi.n in p_s, tore the Wi = 1/3 column before
+//! impact (first contact at 0.134 s against the model's 0.2189 s): the positive form's
+//! stress-free part is what keeps the surface rows of a stretched column together.
+//!
 //! **p = 0**, King's public code's choice, was first taken instead of the normal-stress value
 //! of (35a) because, measured on the drop of King & Lind IV.C at W/dr = 20: with the solvent's
 //! 2 eta_s n.D.n in the Dirichlet value, the Newtonian drop splashes at impact (W* = 4.5 at
@@ -115,9 +132,11 @@ where
     /// The free-surface rows of the PPE: surface particles (but the inlet's Neumann ones,
     /// `neumann`) take the pressure that puts p = 0 on the surface of the layer they stand for
     /// (from the last step's pressures of `st` and the virtual particles' `offsets`), plus with
-    /// the normal-stress condition (35a)'s solvent value from the predicted velocity's gradient
-    /// `kappa_star` and the viscosity `mu`; then every such row where Morris' Laplacian misses
-    /// neighbours beyond the surface keeps its continuity equation as a Robin row.
+    /// the normal-stress condition (35a)'s value from the predicted velocity's gradient
+    /// `kappa_star`, the viscosity `mu` and the stress Phi `phi` (empty for an inelastic
+    /// model); then every such row where Morris' Laplacian misses neighbours beyond the surface
+    /// keeps its continuity equation as a Robin row.
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn surface_rows(
         &self,
         st: &State<N>,
@@ -125,6 +144,7 @@ where
         offsets: &[f64],
         kappa_star: &[Tensor<N>],
         mu: &[f64],
+        phi: &[Tensor<N>],
         neumann: impl Fn(usize) -> bool,
     ) -> SurfaceRows {
         let n = ctx.n;
@@ -165,16 +185,22 @@ where
                 })
             })
             .collect();
-        // King & Lind (35a)'s solvent normal stress as the surface pressure (normal_stress):
-        // 2 mu n.D.n = -2 mu t.G(u*).t by continuity, from the velocity the projection is about
-        // to correct (module documentation, "Free-surface pressure"). Zero elsewhere.
+        // King & Lind (35a)'s normal stress as the surface pressure (normal_stress): the
+        // solvent's 2 mu n.D.n = -2 mu t.G(u*).t by continuity, from the velocity the projection
+        // is about to correct, plus an elastic fluid's n.Phi.n (module documentation,
+        // "Free-surface pressure", "The polymer's normal stress"). Zero elsewhere.
         let p_fs: Vec<f64> = if self.normal_stress {
             (0..n)
                 .map(|i| {
                     if !s.is_surface[i] || ctx.held.holds(i) {
                         return 0.0;
                     }
-                    -2.0 * mu[i] * Const::<N>::tangential_trace(&s.normal[i], &kappa_star[i])
+                    let solvent =
+                        -2.0 * mu[i] * Const::<N>::tangential_trace(&s.normal[i], &kappa_star[i]);
+                    match phi.get(i) {
+                        Some(phi_i) => solvent + s.normal[i].dot(&(phi_i * s.normal[i])),
+                        None => solvent,
+                    }
                 })
                 .collect()
         } else {

@@ -520,7 +520,11 @@ where
         let u_n = ctx.extend(&st.fluid.v);
         let kappa = corrected_velocity_gradients(n, &u_n, vol, &ctx.nl, &self.pairs, &ctx.l);
         let t = self.lap(t, "velocity gradient", false);
-        let conf = self.conformation(&st.fluid.conf, &kappa, &u_ps, &ctx)?;
+        // With the normal-stress surface condition the surface rows stretch the polymer by
+        // their own corrected gradient ([`conformation`], "The surface rows' stretching").
+        let kappa_own = self.surface_own_gradient(&kappa, &u_n, &ctx);
+        let kappa_conf = kappa_own.as_deref().unwrap_or(&kappa);
+        let conf = self.conformation(&st.fluid.conf, kappa_conf, &u_ps, &ctx)?;
         let (phi, phi_virtual) = self.polymer_stress(st, &ctx, &conf, &kappa);
         let t = self.lap(t, "conformation, polymer stress", false);
         let mu = kappa

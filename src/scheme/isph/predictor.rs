@@ -10,6 +10,19 @@
 //! curved wall also `-grad p^n / rho` (the incremental pressure correction: module
 //! documentation of `isph`, "Curved walls").
 //!
+//! **div Phi with the normal-stress surface condition** (the jet): the positive form with the
+//! Bonet & Lok 1999 correction on its difference part,
+//! `sum_j [(Phi_j - Phi_i) L_i grad W_ij + 2 Phi_i grad W_ij] V_j / rho`, L_i every row's own
+//! matrix (the surface rows' included, `Context::l_own`). The positive form is the difference
+//! form plus `2 Phi_i s_i`: it keeps that stress-free part, and the difference part, which on a
+//! truncated support carries the stress gradient along the surface short by the moment
+//! `sum_j V x_ji grad W_ij` (0.72 on the surface rows of a column, 0.84-0.87 on average over a
+//! column 4-5 particles wide), reads it in full. The departure from the positive form is not a
+//! pair force; its mean over the free particles is removed (a free surface exerts no net
+//! force). Measured with the polymer's normal stress in (35a)'s surface value and the surface
+//! rows' own gradient in the conformation ([`super::free_surface`], [`super::conformation`]):
+//! docs/methods.md, "Why ISPH's column falls early".
+//!
 //! The solvent's free-surface traction ([`super::free_surface`]) is explicit here under the
 //! explicit viscous step and implicit in the viscous solve otherwise. The inlet's held particles
 //! keep their velocity; the momentum the step would have given them is the inlet's.
@@ -18,7 +31,7 @@ use super::free_surface::SURFACE_TRACTION_TRANSPOSED;
 use super::projection::extend_pressure;
 use super::{Books, Context, Fields, Isph, MIN_TASK};
 use crate::config::ViscousStep;
-use crate::dim::{Const, Dim, Vector};
+use crate::dim::{Const, Dim, Tensor, Vector};
 use crate::geometry::Shape;
 use crate::rheology::Rheology;
 use crate::state::State;
@@ -66,7 +79,11 @@ where
         let mass = ctx.mass;
         let free_surface = self.free_surface;
         let walls = books.per_wall.len();
-        let rows: Vec<(Vector<N>, Vector<N>, Vector<N>, Vec<Vector<N>>)> = (0..n)
+        // With the normal-stress surface condition div Phi is the corrected positive form
+        // (module documentation): its departure from the positive form, per row.
+        let corrected_phi = R::ELASTIC && self.normal_stress;
+        type Row<const N: usize> = (Vector<N>, Vector<N>, Vector<N>, Vec<Vector<N>>, Vector<N>);
+        let rows: Vec<Row<N>> = (0..n)
             .into_par_iter()
             .with_min_len(MIN_TASK)
             .map(|i| {
@@ -78,6 +95,13 @@ where
                 // Closed cell, elastic, split: the difference form's fluid pairs less the
                 // momentum-conserving positive form of the same pairs (see below).
                 let mut remainder = Vector::<N>::zeros();
+                // The corrected positive form's departure: (L_i - I) on the difference part.
+                let mut departure = Vector::<N>::zeros();
+                let l_less_i = if corrected_phi && !ctx.held.holds(i) {
+                    Some(ctx.l_own[i] - Tensor::<N>::identity())
+                } else {
+                    None
+                };
                 for (kk, &j) in nl.of(i).iter().enumerate() {
                     let j = j as usize;
                     let pj = ctx.source(j);
@@ -89,6 +113,10 @@ where
                         } else {
                             (phi_j - phi[i]) * (l[i] * pairs.grad[off + kk]) * (vol / rho)
                         };
+                        if let Some(d) = &l_less_i {
+                            departure +=
+                                (phi_j - phi[i]) * (d * pairs.grad[off + kk]) * (vol / rho);
+                        }
                         if walls > 0 && j < n && !free_surface {
                             remainder += a - (phi[i] + phi_j) * pairs.grad[off + kk] * (vol / rho);
                         }
@@ -123,7 +151,7 @@ where
                         .unwrap_or(0);
                     by_wall[nearest] += remainder;
                 }
-                (remap, f + fw, on_wall, by_wall)
+                (remap, f + fw, on_wall, by_wall, departure)
             })
             .collect();
         // Closed channel: the body force goes into the predictor (King & Lind eq. (24) as
@@ -137,7 +165,7 @@ where
             self.p.gravity
         };
         let mut rhs: Vec<Vector<N>> = Vec::with_capacity(n);
-        for (i, (remap, a, aw, by_wall)) in rows.iter().enumerate() {
+        for (i, (remap, a, aw, by_wall, _)) in rows.iter().enumerate() {
             books.remap_force += remap * mass;
             books.wall_on_fluid += aw * mass;
             books.plate.add(i, aw * mass);
@@ -162,6 +190,16 @@ where
             }
         }
         let held = &ctx.held;
+        if corrected_phi {
+            // Not a pair force: a free surface exerts no net force, so the departure's mean
+            // over the free particles is removed, as for the surface terms.
+            let mean = held.mean_over_free(rows.iter().map(|r| &r.4));
+            for (i, (r, row)) in rhs.iter_mut().zip(&rows).enumerate() {
+                if !held.holds(i) {
+                    *r += (row.4 - mean) * dt;
+                }
+            }
+        }
         if explicit && self.free_surface {
             // The solvent's surface traction, explicit (the implicit solve's
             // SurfaceTraction term on u^n): 2 mu_i (G_i + G_i^T) s_i / rho, its mean removed.

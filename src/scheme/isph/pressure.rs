@@ -211,7 +211,7 @@ where
                     *k = corrected_velocity_gradient(i, &us_all, vol, nl, pairs, &ctx.l_own[i]);
                 });
         }
-        let rows = self.surface_rows(st, ctx, &offsets, &kappa_star, &f.mu, neumann);
+        let rows = self.surface_rows(st, ctx, &offsets, &kappa_star, &f.mu, &f.phi, neumann);
         let ghosts = GhostLink {
             parent: &ctx.virt.parent,
             sign: &[],
