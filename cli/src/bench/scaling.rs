@@ -32,7 +32,7 @@ use viscosph::simulation::Simulation;
 #[derive(Args, Debug, Clone, Default)]
 pub struct ScalingArgs {
     /// Timed runs per size and thread count, taken in rounds that alternate the thread counts
-    /// (1, 2, ..., then the reverse) on the same steps; default 7 (about 6 min on the 2-core
+    /// (1, 2, ..., then the reverse) on the same steps; default 7 (about 5 min on the idle 2-core
     /// machine of docs/bench/scaling.md), 2 with --quick.
     #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
     pub repeats: Option<u64>,
@@ -340,7 +340,7 @@ pub fn bench_scaling(
         run_wall(quick)
     );
     md.push_str(
-        "| case | particles | threads | runs x steps | wall per step, median [ms] | min-max \
+        "| case | particles | threads | runs x steps (median) | wall per step, median [ms] | min-max \
          [ms] | speed-up | efficiency | spread over rounds | CPU ns per particle-step | load \
          before, after | serial share | Amdahl, 16 threads |\n\
          |---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
