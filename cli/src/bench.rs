@@ -48,8 +48,9 @@ pub enum BenchKind {
     Throughput,
     /// Threads 1 to the cores x sizes (WCSPH 10^4..10^6, ISPH 10^3..10^5 particles): speed-up,
     /// efficiency, the serial share of a step from the per-pass timers and its Amdahl
-    /// projection to 16 threads.
-    Scaling,
+    /// projection to 16 threads; the thread counts alternate over repeated runs of the same
+    /// steps (median and spread).
+    Scaling(scaling::ScalingArgs),
     /// Stability maps: sweeps of De, beta, inclination, impact velocity and resolution.
     Stability(stability::StabilityArgs),
     /// Error against run time for every scheme on problems with a trustworthy reference.
@@ -92,7 +93,7 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
     let stem = match args.what {
         BenchKind::Drop => Some("drop"),
         BenchKind::Throughput => Some("throughput"),
-        BenchKind::Scaling => Some("scaling"),
+        BenchKind::Scaling(_) => Some("scaling"),
         BenchKind::Stability(_) => Some("stability"),
         BenchKind::Accuracy => Some("accuracy"),
         BenchKind::Rheologies => Some("rheologies"),
@@ -105,7 +106,7 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
     let report = match args.what {
         BenchKind::Drop => drop::bench_drop(&args.out, args.quick)?,
         BenchKind::Throughput => throughput::bench_throughput(&args.out, args.quick)?,
-        BenchKind::Scaling => scaling::bench_scaling(&args.out, args.quick)?,
+        BenchKind::Scaling(ref a) => scaling::bench_scaling(a, &args.out, args.quick)?,
         BenchKind::Stability(ref a) => stability::bench_stability(a, &args.out, args.quick)?,
         BenchKind::Accuracy => accuracy::bench_accuracy(&args.out, args.quick)?,
         BenchKind::Rheologies => rheologies::bench_rheologies(&args.out, args.quick)?,

@@ -284,9 +284,12 @@ fn jet_bench() {
     }
 }
 
-/// `bench scaling --quick`: every case runs on every thread count from one to the cores, one
-/// thread is the reference (speed-up 1), and the serial share from the pass timers is a share
-/// whose Amdahl projection is an efficiency.
+/// `bench scaling --quick`: every case runs on every thread count (1, 2, 4, ... and the cores),
+/// two alternating runs each; one thread is the reference (speed-up 1, every round's efficiency
+/// 1); the wall per step is the median of the runs, so it lies within their range; speed-up and
+/// efficiency come from the medians, and the efficiency lies within its spread over the rounds;
+/// the serial share from the pass timers is a share whose Amdahl projection is an efficiency;
+/// every thread count ends in the one-thread run's state, bit for bit.
 #[test]
 fn scaling_rows_and_serial_share() {
     let dir = tempfile::tempdir().unwrap();
@@ -296,23 +299,87 @@ fn scaling_rows_and_serial_share() {
         md.contains("Per pass") && md.contains("serial share of a step"),
         "{md}"
     );
-    let (h, rows) = csv(&out.join("scaling.csv"));
-    assert_eq!(h[0], "case");
+    // The per-part comparison for both acceptance cases, WCSPH and ISPH.
+    for s in ["Per pass, WCSPH", "Per pass, ISPH"] {
+        assert!(md.contains(s), "{s}: {md}");
+    }
     let cores = std::thread::available_parallelism().unwrap().get();
+    if cores > 1 {
+        assert_eq!(md.matches("1 against").count(), 2, "{md}");
+    }
+    let (h, rows) = csv(&out.join("scaling.csv"));
+    let col = |name: &str| {
+        h.iter()
+            .position(|c| c == name)
+            .unwrap_or_else(|| panic!("column {name} in {h:?}"))
+    };
+    assert_eq!(h[0], "case");
+    let mut counts = vec![1];
+    while 2 * counts.last().unwrap() < cores {
+        counts.push(2 * counts.last().unwrap());
+    }
+    if cores > 1 {
+        counts.push(cores);
+    }
     assert_eq!(
         rows.len(),
-        4 * cores,
+        4 * counts.len(),
         "two WCSPH and two ISPH sizes per thread count"
     );
+    let num = |r: &Vec<String>, name: &str| -> f64 { r[col(name)].parse().unwrap() };
     for r in &rows {
-        let (threads, speed_up): (usize, f64) = (r[2].parse().unwrap(), r[5].parse().unwrap());
-        let (share, amdahl): (f64, f64) = (r[8].parse().unwrap(), r[9].parse().unwrap());
-        if threads == 1 {
-            assert_eq!(speed_up, 1.0, "{r:?}");
+        let threads = num(r, "threads");
+        assert!(counts.contains(&(threads as usize)), "{r:?}");
+        assert_eq!(num(r, "repeats"), 2.0, "{r:?}");
+        assert!(num(r, "steps") >= 2.0 * num(r, "steps_per_run"), "{r:?}");
+        let (w, w_min, w_max) = (
+            num(r, "wall_per_step_s"),
+            num(r, "wall_per_step_min_s"),
+            num(r, "wall_per_step_max_s"),
+        );
+        assert!(
+            w > 0.0 && w_min <= w && w <= w_max,
+            "median in range: {r:?}"
+        );
+        // Speed-up from the medians: the one-thread row of the same case and size.
+        let one = rows
+            .iter()
+            .find(|o| o[0] == r[0] && o[1] == r[1] && o[2] == "1")
+            .unwrap();
+        let speed_up = num(r, "speed_up");
+        let expected = num(one, "wall_per_step_s") / w;
+        assert!(
+            (speed_up - expected).abs() <= 1e-5 * expected,
+            "speed-up {speed_up} against the medians' {expected}: {r:?}"
+        );
+        let eff = num(r, "efficiency");
+        assert!(
+            (eff - speed_up / threads).abs() <= 1e-5,
+            "efficiency = speed-up / threads: {r:?}"
+        );
+        let (lo, hi) = (num(r, "efficiency_min"), num(r, "efficiency_max"));
+        assert!(hi - lo >= 0.0, "{r:?}");
+        assert!(
+            lo - 1e-5 <= eff && eff <= hi + 1e-5,
+            "the medians' efficiency lies within the rounds': {r:?}"
+        );
+        if threads == 1.0 {
+            assert_eq!((speed_up, eff, lo, hi), (1.0, 1.0, 1.0, 1.0), "{r:?}");
         }
+        let (share, amdahl) = (num(r, "serial_share"), num(r, "amdahl16"));
         assert!(speed_up > 0.0 && (0.0..=1.0).contains(&share), "{r:?}");
         assert!(amdahl > 0.0 && amdahl <= 1.0, "{r:?}");
+        assert!(
+            num(r, "load_before") >= 0.0 && num(r, "load_after") >= 0.0,
+            "{r:?}"
+        );
+        // The simulations timed on each thread count ran the same steps to the same bits.
+        assert_eq!(num(r, "bitwise"), 1.0, "{r:?}");
     }
+    assert!(
+        md.contains("bitwise the same on every thread count"),
+        "{md}"
+    );
 }
 
 /// `bench cylinders --quick`: ISPH at 8 across, Wi = 0 and 0.2, each to its steady state and

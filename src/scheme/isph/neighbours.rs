@@ -145,8 +145,8 @@ struct NeighbourSums<const N: usize> {
     grad_c_q: Vec<Vector<N>>,
 }
 
-/// The pair cache `pairs` (gradients and Morris coefficients, full layout), the moment
-/// matrices, the sums of the free-surface detection and the shifting's concentration gradient
+/// The pair cache `pairs` (gradients and Morris coefficients, full layout, every slot written),
+/// the moment matrices, the sums of the free-surface detection and the shifting's concentration gradient
 /// of every fluid particle, in one pass over its neighbour list that evaluates the kernel once
 /// per pair instead of once per sum. Every sum keeps the order and expression of its operator
 /// (`correction::moment_matrices`, `surface::detect`, `shifting::concentration_gradient`, by
@@ -167,7 +167,8 @@ fn neighbour_sums<const N: usize>(
 where
     Const<N>: Dim,
 {
-    pairs.reset_full(nl);
+    // Every slot is written below (the self pair's zeros too): no zeroing pass first.
+    pairs.size_full(nl);
     let gs = nl.split_mut(&mut pairs.grad);
     let ms = nl.split_mut(&mut pairs.morris);
     let inv_h = 1.0 / k.h();
@@ -197,6 +198,9 @@ where
                     // fluid neighbours and across straight walls).
                     g[kk] = gij * (vols[j] / vols[i]);
                     m[kk] = 2.0 * vols[j] * f;
+                } else {
+                    g[kk] = Vector::<N>::zeros();
+                    m[kk] = 0.0;
                 }
                 // Moment matrix M_i: x_ji (x) grad W_ij = -x_ij g^T.
                 mom -= vols[j] * xij * gij.transpose();
@@ -216,7 +220,8 @@ where
         })
         .collect();
     let l = rows
-        .iter()
+        .par_iter()
+        .with_min_len(MIN_TASK)
         .map(|r| correction::invert_or_identity(&r.0))
         .collect();
     let surface = free_surface.then(|| {

@@ -135,7 +135,8 @@ where
                     pairs.gradient_sum(nl, i, vol) * (2.0 * mu[i] * theta * dt / rho)
                 })
                 .collect();
-            let mut w = pairs.grad.clone();
+            // Copied in parallel (a clone copies the ~8 MB at 10^4 particles on one thread).
+            let mut w: Vec<Vector<N>> = pairs.grad.par_iter().copied().collect();
             nl.split_mut(&mut w)
                 .into_par_iter()
                 .enumerate()

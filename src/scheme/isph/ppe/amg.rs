@@ -107,6 +107,7 @@ struct Rect {
 impl Rect {
     fn from_rows(rows: Vec<Vec<(u32, f64)>>) -> Self {
         let (row_ptr, col, val) = flatten_rows(&rows);
+        drop_in_parallel(rows);
         Self { row_ptr, col, val }
     }
 
@@ -349,6 +350,7 @@ fn aggregate(a: &CsrMatrix, theta: f64) -> (Vec<u32>, usize) {
         }
         count += 1;
     }
+    drop_in_parallel(strong);
     (agg, count as usize)
 }
 

@@ -45,6 +45,7 @@ impl CsrMatrix {
             })
             .collect();
         let (row_ptr, col, val) = flatten_rows(&rows);
+        drop_in_parallel(rows);
         let diag = diag_at.iter().zip(&row_ptr).map(|(d, s)| d + s).collect();
         Self {
             row_ptr,
@@ -101,6 +102,15 @@ pub(super) fn flatten_rows(rows: &[Vec<(u32, f64)>]) -> (Vec<usize>, Vec<u32>, V
         }
     });
     (row_ptr, col, val)
+}
+
+/// Drop a vector of per-row allocations on every thread, in runs of `ROW_CHUNK` rows. Dropped
+/// at the end of a scope, its elements are freed one after the other on one thread: at 10^4
+/// particles the row lists of the pressure system, of its multigrid hierarchy (strong
+/// neighbours, prolongation, Galerkin products) and of the coupled viscous system are some
+/// 10^5 allocations a step, freed while the other threads wait.
+pub(super) fn drop_in_parallel<T: Send>(v: Vec<T>) {
+    v.into_par_iter().with_min_len(ROW_CHUNK).for_each(drop);
 }
 
 /// Columns and values of the rows `row_ptr` describes, filled in parallel in runs of `rows`

@@ -332,6 +332,7 @@ pub(super) fn assemble_coupled<const N: usize>(
         .iter()
         .flat_map(|(_, bi)| bi.iter().copied())
         .collect();
+    super::drop_in_parallel(per_particle);
     LinearSystem {
         matrix: CsrMatrix {
             row_ptr,
