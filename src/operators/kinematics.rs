@@ -97,6 +97,26 @@ pub fn corrected_velocity_gradient<const N: usize>(
     k * l_i.transpose() * vol
 }
 
+/// Replace `kappa[i]` for every `i` with `rows[i]` by particle i's corrected gradient with its
+/// own matrix `l[i]` ([`corrected_velocity_gradient`]), in parallel, the other rows untouched:
+/// the ISPH free surface's rows take their own Bonet & Lok matrix where the rest of the step
+/// keeps L = I (King & Lind 2021 (35a)'s surface value, the surface rows' stretching).
+pub fn recorrect_rows<const N: usize>(
+    kappa: &mut [Tensor<N>],
+    rows: &[bool],
+    u: &[Vector<N>],
+    vol: f64,
+    list: &NeighborList,
+    pairs: &PairCache<N>,
+    l: &[Tensor<N>],
+) {
+    kappa
+        .par_iter_mut()
+        .enumerate()
+        .filter(|(i, _)| rows[*i])
+        .for_each(|(i, k)| *k = corrected_velocity_gradient(i, u, vol, list, pairs, &l[i]));
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

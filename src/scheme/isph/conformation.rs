@@ -103,7 +103,7 @@
 use super::{Context, Isph, MIN_TASK};
 use crate::config::ConformationMethod;
 use crate::dim::{Const, Dim, Tensor, Vector};
-use crate::operators::kinematics::corrected_velocity_gradient;
+use crate::operators::kinematics::recorrect_rows;
 use crate::rheology::{self, logconf, Rheology};
 use crate::state::State;
 use rayon::prelude::*;
@@ -227,19 +227,15 @@ where
             .as_ref()
             .filter(|_| R::ELASTIC && self.normal_stress)?;
         let mut k = kappa.to_vec();
-        k.par_iter_mut()
-            .enumerate()
-            .filter(|(i, _)| s.is_surface[*i])
-            .for_each(|(i, ki)| {
-                *ki = corrected_velocity_gradient(
-                    i,
-                    u_n,
-                    ctx.vol,
-                    &ctx.nl,
-                    &self.pairs,
-                    &ctx.l_own[i],
-                );
-            });
+        recorrect_rows(
+            &mut k,
+            &s.is_surface,
+            u_n,
+            ctx.vol,
+            &ctx.nl,
+            &self.pairs,
+            &ctx.l_own,
+        );
         Some(k)
     }
 

@@ -58,7 +58,7 @@ use super::step_size::DT_COEF_PER_FACTOR;
 use super::{Books, Context, Fields, Isph, MIN_TASK};
 use crate::dim::{Const, Dim, Vector};
 use crate::kernel::Kernel;
-use crate::operators::kinematics::{corrected_velocity_gradient, corrected_velocity_gradients};
+use crate::operators::kinematics::{corrected_velocity_gradients, recorrect_rows};
 use crate::operators::surface;
 use crate::rheology::Rheology;
 use crate::state::State;
@@ -203,13 +203,15 @@ where
         // correction ([`super::free_surface`], "Free-surface pressure"); elsewhere `l_own` is
         // `l`, so only the surface rows' gradients change (the source above is already summed).
         if let (true, Some(s)) = (self.normal_stress, &ctx.surf) {
-            kappa_star
-                .par_iter_mut()
-                .enumerate()
-                .filter(|(i, _)| s.is_surface[*i])
-                .for_each(|(i, k)| {
-                    *k = corrected_velocity_gradient(i, &us_all, vol, nl, pairs, &ctx.l_own[i]);
-                });
+            recorrect_rows(
+                &mut kappa_star,
+                &s.is_surface,
+                &us_all,
+                vol,
+                nl,
+                pairs,
+                &ctx.l_own,
+            );
         }
         let rows = self.surface_rows(st, ctx, &offsets, &kappa_star, &f.mu, &f.phi, neumann);
         let ghosts = GhostLink {
